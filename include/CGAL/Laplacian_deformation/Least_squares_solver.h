@@ -1,0 +1,150 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+
+#ifndef CGAL_LAPLACIAN_DEFORMATION_LEAST_SQUARES_SOLVER_H
+#define CGAL_LAPLACIAN_DEFORMATION_LEAST_SQUARES_SOLVER_H
+
+#include <CGAL/Default.h>
+#include <CGAL/Eigen_solver_traits.h>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include <cstddef>
+#include <type_traits>
+#include <utility>
+
+namespace CGAL {
+namespace Laplacian_deformation {
+
+/*!
+\ingroup PkgLaplacianDeformationSolver
+\brief The default solver traits: Eigen's simplicial sparse Cholesky (`Eigen::SimplicialLLT`,
+AMD ordering) wrapped in CGAL's `Eigen_solver_traits`.
+*/
+typedef CGAL::Eigen_solver_traits<Eigen::SimplicialLLT<Eigen::SparseMatrix<double>>>
+    Default_solver_traits;
+
+/*!
+\ingroup PkgLaplacianDeformationSolver
+
+\brief Factor once, solve many: the least-squares solve shared by every representation and policy.
+
+`factor(A)` forms the normal matrix `N = A^T A` of the sparse system matrix `A`, keeps `A^T` and
+`N` (the wrapper owns everything the factorisation refers to) and factors `N`.
+`solve(B, X)` then minimises `|A X - B|^2` for the three columns of `B` at once:
+`X = N^{-1} A^T B`. Nothing is refactored when only `B` changes.
+
+\tparam SolverTraits a model of `SparseLinearAlgebraWithFactorTraits_d` whose `Matrix` is
+constructible from an `Eigen::SparseMatrix<double>` (as CGAL's `Eigen_solver_traits`).
+When it also exposes `solver()` returning an Eigen solver (as `Eigen_solver_traits` does), the
+three columns go through one block solve; otherwise through `linear_solver()` per column.
+`CGAL::Default` means `Default_solver_traits`; see also `Cholmod_solver_traits`.
+*/
+template <class SolverTraits = CGAL::Default>
+class Least_squares_solver
+{
+public:
+  /// The solver traits.
+  typedef typename CGAL::Default::Get<SolverTraits, Default_solver_traits>::type Solver_traits;
+
+  /// Why the last call failed.
+  enum Info
+  {
+    SUCCESS = 0,            ///< the last call succeeded
+    NOT_FACTORED,           ///< `solve()` was called before a successful `factor()`
+    FACTORIZATION_FAILED,   ///< the normal matrix is not (numerically) positive definite
+    SOLVE_FAILED,           ///< the back-substitution failed
+    NOT_FINITE              ///< the input or the solution contains NaN or infinity
+  };
+
+  /// factors `A^T A`. Returns `false` (and `info()` says why) on failure.
+  bool factor(const Eigen::SparseMatrix<double>& a)
+  {
+    m_factored = false;
+    if(!Eigen::Map<const Eigen::VectorXd>(a.valuePtr(), a.nonZeros()).allFinite())
+      return fail(NOT_FINITE);
+    m_transposed = a.transpose();
+    Eigen::SparseMatrix<double> normal = m_transposed * a;
+    normal.makeCompressed();
+    m_matrix = Matrix(normal);
+    m_traits = Solver_traits();
+    typename Solver_traits::NT d;
+    ++m_number_of_factorizations;
+    if(!m_traits.factor(m_matrix, d))
+      return fail(FACTORIZATION_FAILED);
+    m_factored = true;
+    return fail(SUCCESS), true;
+  }
+
+  /// solves `min |A X - B|^2` for the three columns of `B` at once.
+  bool solve(const Eigen::MatrixX3d& b, Eigen::MatrixX3d& x)
+  {
+    if(!m_factored)
+      return fail(NOT_FACTORED);
+    if(!b.allFinite())
+      return fail(NOT_FINITE);
+    const Eigen::MatrixX3d rhs = m_transposed * b;
+    if(!block_solve(rhs, x, 0))
+      return fail(SOLVE_FAILED);
+    if(!x.allFinite())
+      return fail(NOT_FINITE);
+    return fail(SUCCESS), true;
+  }
+
+  /// the outcome of the last `factor()` or `solve()`.
+  Info info() const { return m_info; }
+  /// whether a factorisation is available.
+  bool is_factored() const { return m_factored; }
+  /// the number of factorisations performed since construction.
+  std::size_t number_of_factorizations() const { return m_number_of_factorizations; }
+  /// the number of unknowns per coordinate.
+  Eigen::Index number_of_unknowns() const { return m_transposed.rows(); }
+  /// the solver traits (for example to tune the underlying solver).
+  Solver_traits& solver_traits() { return m_traits; }
+
+private:
+  typedef typename Solver_traits::Matrix Matrix;
+  typedef typename Solver_traits::Vector Vector;
+
+  bool fail(Info info) { m_info = info; return false; }
+
+  // one block solve when the traits expose an Eigen solver ...
+  template <class T = Solver_traits>
+  auto block_solve(const Eigen::MatrixX3d& rhs, Eigen::MatrixX3d& x, int)
+      -> decltype(std::declval<T&>().solver().solve(rhs), bool())
+  {
+    x = m_traits.solver().solve(rhs);
+    return m_traits.solver().info() == Eigen::Success;
+  }
+  // ... otherwise one linear_solver() call per column
+  bool block_solve(const Eigen::MatrixX3d& rhs, Eigen::MatrixX3d& x, long)
+  {
+    x.resize(rhs.rows(), 3);
+    for(int c = 0; c < 3; ++c)
+    {
+      Vector b(rhs.rows()), xc(rhs.rows());
+      for(Eigen::Index i = 0; i < rhs.rows(); ++i)
+        b.set(i, rhs(i, c));
+      if(!m_traits.linear_solver(b, xc))
+        return false;
+      for(Eigen::Index i = 0; i < rhs.rows(); ++i)
+        x(i, c) = xc(i);
+    }
+    return true;
+  }
+
+  Eigen::SparseMatrix<double> m_transposed;
+  Matrix m_matrix;
+  Solver_traits m_traits;
+  Info m_info = NOT_FACTORED;
+  bool m_factored = false;
+  std::size_t m_number_of_factorizations = 0;
+};
+
+} // namespace Laplacian_deformation
+} // namespace CGAL
+
+#endif // CGAL_LAPLACIAN_DEFORMATION_LEAST_SQUARES_SOLVER_H

@@ -1,0 +1,428 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+
+#ifndef CGAL_LAPLACIAN_DEFORMATION_MESH_DEFORMER_H
+#define CGAL_LAPLACIAN_DEFORMATION_MESH_DEFORMER_H
+
+#include <CGAL/Laplacian_deformation/Deformation_result.h>
+#include <CGAL/Laplacian_deformation/laplacian_matrix.h>
+#include <CGAL/Laplacian_deformation/internal/Deformation_core.h>
+#include <CGAL/Laplacian_deformation/internal/Deformation_types.h>
+
+#include <CGAL/Iterator_range.h>
+#include <CGAL/tags.h>
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+namespace CGAL {
+namespace Laplacian_deformation {
+
+/*!
+\ingroup PkgLaplacianDeformationRef
+
+\brief Interactive Laplacian deformation of a triangle mesh, in CGAL `Surface_mesh_deformation`'s
+vocabulary: a region of interest (ROI), control vertices with target positions, `preprocess()`
+(factor once) and `deform()` (iterate: fit a transform per node in parallel, then solve).
+
+Vertices outside the ROI are fixed at their rest positions. Control vertices are in the ROI;
+with hard constraints (the default) they are placed exactly at their targets, with soft
+constraints they are pulled there by the term `lambda^2 |p'_c - t_c|^2`, `lambda^2` being
+`soft_constraint_weight()` times the mean diagonal of the normal matrix (so that a uniform
+scaling of the problem does not change the result). The unknowns are the free vertices; the
+rows are every node whose Laplacian stencil touches a free vertex. The normal matrix does not
+depend on the transforms: it is factored once per ROI / control set / constraint mode, and
+moving targets never refactors it.
+
+The first iteration after `preprocess()` or `reset()` is one solve with `T = I`; later iterations
+(also in later `deform()` calls) continue from the previous solution, so `deform(7, 0)` equals
+seven `deform(1, 0)` calls. Iterations stop after `iterations` or when the largest vertex
+displacement of an iteration, relative to the ROI's bounding-box diagonal, is at most `tolerance`.
+
+A failed `preprocess()` or `deform()` leaves the mesh exactly as it was; its reason is in
+`last_result()`.
+
+\tparam TriangleMesh a model of `FaceGraph` whose faces are triangles
+\tparam Representation a model of `DeformationRepresentation`; `CGAL::Default`: `Edge_based_representation`
+\tparam WeightPolicy a model of `DeformationWeightPolicy`; `CGAL::Default`: `Cotangent_weights`
+\tparam TransformPolicy a model of `DeformationTransformPolicy`; `CGAL::Default`: `Scaled_rotation_transform`
+\tparam SolverTraits a model of `SparseLinearAlgebraWithFactorTraits_d` (see `Least_squares_solver`); `CGAL::Default`: `Default_solver_traits`
+\tparam VertexPointMap a model of `ReadWritePropertyMap` from vertices to points; `CGAL::Default`: the internal point map
+\tparam ConcurrencyTag `CGAL::Sequential_tag`, `CGAL::Parallel_tag` or `CGAL::Parallel_if_available_tag` for the local step
+*/
+template <class TriangleMesh, class Representation = CGAL::Default, class WeightPolicy = CGAL::Default,
+          class TransformPolicy = CGAL::Default, class SolverTraits = CGAL::Default,
+          class VertexPointMap = CGAL::Default, class ConcurrencyTag = CGAL::Parallel_if_available_tag>
+class Mesh_deformer
+{
+  typedef internal::Deformation_types<TriangleMesh, Representation, WeightPolicy, TransformPolicy,
+                                      SolverTraits, VertexPointMap> Types;
+
+public:
+  /// \name Types
+  /// @{
+  typedef TriangleMesh Triangle_mesh;                                  ///< the mesh type
+  typedef typename Types::Representation_type Representation_type;     ///< the representation
+  typedef typename Types::Weight_policy Weight_policy;                 ///< the weight policy
+  typedef typename Types::Transform_policy Transform_policy;           ///< the transform policy
+  typedef typename Types::Solver_traits Solver_traits;                 ///< the solver traits
+  typedef typename Types::Vertex_point_map Vertex_point_map;           ///< the vertex point map
+  typedef typename Types::Point Point;                                 ///< the point type
+  typedef typename Types::Geom_traits Geom_traits;                     ///< the kernel of `Point`
+  typedef typename Types::Nodes Nodes;                                 ///< the representation's nodes on `Triangle_mesh`
+  typedef typename boost::graph_traits<TriangleMesh>::vertex_descriptor vertex_descriptor; ///< a vertex
+  typedef CGAL::Iterator_range<typename std::vector<vertex_descriptor>::const_iterator> Roi_vertex_range; ///< the ROI
+  /// @}
+
+  /// \name Construction
+  /// @{
+  /// creates a deformer for `tm`, whose current positions become the rest positions.
+  /// `tm` must outlive the deformer, and its topology must not change.
+  explicit Mesh_deformer(Triangle_mesh& tm) : Mesh_deformer(tm, get(CGAL::vertex_point, tm)) {}
+  /// creates a deformer for `tm` whose points are given by `vpm`.
+  Mesh_deformer(Triangle_mesh& tm, Vertex_point_map vpm)
+    : m_tm(tm), m_vpm(vpm), m_vim(CGAL::get_initialized_vertex_index_map(tm)),
+      m_number_of_vertices(num_vertices(tm)), m_number_of_edges(num_edges(tm)),
+      m_is_roi(m_number_of_vertices, 0), m_is_control(m_number_of_vertices, 0),
+      m_moved(m_number_of_vertices, 0), m_target(m_number_of_vertices)
+  {
+    m_rest = internal::vertex_positions(m_tm, m_vpm, m_vim);
+  }
+  Mesh_deformer(const Mesh_deformer&) = delete;
+  Mesh_deformer& operator=(const Mesh_deformer&) = delete;
+  /// @}
+
+  /// \name Region of interest and control vertices
+  /// @{
+  /// inserts `v` in the ROI; returns `false` if it was already there.
+  bool insert_roi_vertex(vertex_descriptor v)
+  {
+    if(is_roi_vertex(v))
+      return false;
+    m_is_roi[index(v)] = 1;
+    m_roi.push_back(v);
+    return m_need_preprocess = true;
+  }
+  /// inserts the vertices of `[begin, end)` in the ROI.
+  template <class InputIterator>
+  void insert_roi_vertices(InputIterator begin, InputIterator end)
+  {
+    for(; begin != end; ++begin)
+      insert_roi_vertex(*begin);
+  }
+  /// removes `v` from the ROI (and from the controls); returns `false` if it was not in the ROI.
+  /// At the next successful `preprocess()`, a vertex no longer in the ROI goes back to its rest position.
+  bool erase_roi_vertex(vertex_descriptor v)
+  {
+    if(!is_roi_vertex(v))
+      return false;
+    erase_control_vertex(v);
+    m_is_roi[index(v)] = 0;
+    m_roi.erase(std::find(m_roi.begin(), m_roi.end(), v));
+    return m_need_preprocess = true;
+  }
+  /// empties the ROI and the set of controls.
+  void clear_roi_vertices()
+  {
+    for(vertex_descriptor v : m_roi)
+      m_is_roi[index(v)] = m_is_control[index(v)] = 0;
+    m_roi.clear();
+    m_need_preprocess = true;
+  }
+  /// makes `v` a control vertex (inserting it in the ROI if needed), with its current position
+  /// as target; returns `false` if it already was a control vertex.
+  bool insert_control_vertex(vertex_descriptor v)
+  {
+    if(is_control_vertex(v))
+      return false;
+    insert_roi_vertex(v);
+    m_is_control[index(v)] = 1;
+    m_target[index(v)] = get(m_vpm, v);
+    return m_need_preprocess = true;
+  }
+  /// makes every vertex of `[begin, end)` a control vertex.
+  template <class InputIterator>
+  void insert_control_vertices(InputIterator begin, InputIterator end)
+  {
+    for(; begin != end; ++begin)
+      insert_control_vertex(*begin);
+  }
+  /// `v` stops being a control vertex but stays in the ROI; returns `false` if it was not a control.
+  bool erase_control_vertex(vertex_descriptor v)
+  {
+    if(!is_control_vertex(v))
+      return false;
+    m_is_control[index(v)] = 0;
+    return m_need_preprocess = true;
+  }
+  /// no vertex is a control vertex any more (they stay in the ROI).
+  void clear_control_vertices()
+  {
+    for(vertex_descriptor v : m_roi)
+      m_is_control[index(v)] = 0;
+    m_need_preprocess = true;
+  }
+  /// the ROI, in insertion order.
+  Roi_vertex_range roi_vertices() const { return Roi_vertex_range(m_roi.begin(), m_roi.end()); }
+  /// whether `v` is in the ROI.
+  bool is_roi_vertex(vertex_descriptor v) const { return m_is_roi[index(v)] != 0; }
+  /// whether `v` is a control vertex.
+  bool is_control_vertex(vertex_descriptor v) const { return m_is_control[index(v)] != 0; }
+  /// @}
+
+  /// \name Targets
+  /// Moving targets never triggers a new factorisation.
+  /// @{
+  /// sets the target of the control vertex `v` (ignored if `v` is not a control vertex).
+  void set_target_position(vertex_descriptor v, const Point& target)
+  {
+    if(is_control_vertex(v))
+      m_target[index(v)] = target;
+  }
+  /// the target of the control vertex `v`.
+  const Point& target_position(vertex_descriptor v) const
+  {
+    CGAL_precondition(is_control_vertex(v));
+    return m_target[index(v)];
+  }
+  /// translates the target of `v` by `t` (`Vect` has `operator[]` for its coordinates).
+  template <class Vect>
+  void translate(vertex_descriptor v, const Vect& t)
+  {
+    const Point& p = m_target[index(v)];
+    set_target_position(v, Point(p.x() + t[0], p.y() + t[1], p.z() + t[2]));
+  }
+  /// translates the targets of `[begin, end)` by `t`.
+  template <class InputIterator, class Vect>
+  void translate(InputIterator begin, InputIterator end, const Vect& t)
+  {
+    for(; begin != end; ++begin)
+      translate(*begin, t);
+  }
+  /// rotates the target of `v` by the quaternion `quat` about `center`, as CGAL does
+  /// (`Vect` is constructible from three coordinates, has `operator[]`, and `quat * Vect` is a `Vect`).
+  template <class Quaternion, class Vect>
+  void rotate(vertex_descriptor v, const Vect& center, const Quaternion& quat)
+  {
+    const Point& p = m_target[index(v)];
+    const Vect r = quat * Vect(CGAL::to_double(p.x()) - center[0], CGAL::to_double(p.y()) - center[1],
+                               CGAL::to_double(p.z()) - center[2]);
+    set_target_position(v, Point(center[0] + r[0], center[1] + r[1], center[2] + r[2]));
+  }
+  /// rotates the targets of `[begin, end)`.
+  template <class InputIterator, class Quaternion, class Vect>
+  void rotate(InputIterator begin, InputIterator end, const Vect& center, const Quaternion& quat)
+  {
+    for(; begin != end; ++begin)
+      rotate(*begin, center, quat);
+  }
+  /// @}
+
+  /// \name Constraints and iterations
+  /// @{
+  /// control vertices become soft constraints of relative weight `weight` (> 0); refactors at the next call.
+  void set_soft_constraints(double weight) { m_soft = true; m_soft_weight = weight; m_need_preprocess = true; }
+  /// control vertices become hard constraints (the default); refactors at the next call.
+  void set_hard_constraints() { m_soft = false; m_need_preprocess = true; }
+  /// whether the controls are soft.
+  bool has_soft_constraints() const { return m_soft; }
+  /// the relative weight of soft constraints.
+  double soft_constraint_weight() const { return m_soft_weight; }
+  /// the number of iterations of `deform()` (default 5).
+  void set_iterations(unsigned int iterations) { m_iterations = iterations; }
+  /// the relative change below which `deform()` stops early (default 1e-4).
+  void set_tolerance(double tolerance) { m_tolerance = tolerance; }
+  /// the number of iterations of `deform()`.
+  unsigned int iterations() const { return m_iterations; }
+  /// the tolerance of `deform()`.
+  double tolerance() const { return m_tolerance; }
+  /// @}
+
+  /// \name Deformation
+  /// @{
+  /// builds and factors the system. Returns `false` on failure (see `last_result()`), leaving the mesh unchanged.
+  bool preprocess()
+  {
+    m_last = Deformation_result();
+    if(!check_topology())
+      return false;
+    if(m_roi.empty())
+      return fail(EMPTY_REGION_OF_INTEREST, "the region of interest is empty");
+    if(m_soft && !(m_soft_weight > 0 && std::isfinite(m_soft_weight)))
+      return fail(INVALID_PARAMETER, "the soft constraint weight must be positive and finite");
+    build_operator();
+    std::vector<unsigned char> role(m_number_of_vertices, internal::FIXED_VERTEX);
+    for(vertex_descriptor v : m_roi)
+      role[index(v)] = !m_is_control[index(v)] ? internal::FREE_VERTEX
+                       : m_soft ? internal::SOFT_CONTROL_VERTEX : internal::HARD_CONTROL_VERTEX;
+    m_last = m_core.preprocess(m_stencils, m_d, m_delta, m_rest_nodes, role, m_soft_weight);
+    if(!m_last)
+      return false;
+    m_need_preprocess = false;
+    m_role.swap(role);
+    // vertices that left the ROI go back to their rest positions
+    for(vertex_descriptor v : vertices(m_tm))
+      if(m_moved[index(v)] && m_role[index(v)] == internal::FIXED_VERTEX)
+        put_position(v, m_rest[index(v)], false);
+    m_diagonal = region_diagonal();
+    return true;
+  }
+  /// deforms with `iterations()` and `tolerance()`.
+  Deformation_result deform() { return deform(m_iterations, m_tolerance); }
+  /// deforms with at most `iterations` iterations, stopping when the relative change is at most `tolerance`.
+  Deformation_result deform(unsigned int iterations, double tolerance)
+  {
+    if(!(tolerance >= 0))
+      return fail(INVALID_PARAMETER, "the tolerance must be non-negative"), m_last;
+    if(m_need_preprocess || !check_topology())
+      if(!preprocess())
+        return m_last;
+    std::vector<Eigen::Vector3d> p(m_number_of_vertices);
+    for(vertex_descriptor v : vertices(m_tm))
+    {
+      const std::size_t i = index(v);
+      p[i] = m_role[i] == internal::FIXED_VERTEX ? m_rest[i]
+             : m_is_control[i] ? to_vector(m_target[i]) : to_vector(get(m_vpm, v));
+      if(!p[i].allFinite() && m_role[i] != internal::FIXED_VERTEX)
+        return fail(NON_FINITE_INPUT, "a target or a current position is not finite"), m_last;
+    }
+    m_last = m_core.iterate(p, iterations, tolerance, m_diagonal);
+    if(!m_last)
+      return m_last;
+    for(vertex_descriptor v : m_roi)
+      put_position(v, p[index(v)], true);
+    return m_last;
+  }
+  /// puts the ROI back at its rest positions, the targets of the controls too, and restarts the
+  /// iterations from `T = I`.
+  void reset()
+  {
+    for(vertex_descriptor v : m_roi)
+    {
+      put_position(v, m_rest[index(v)], false);
+      if(is_control_vertex(v))
+        m_target[index(v)] = get(m_vpm, v);
+    }
+    m_core.restart();
+  }
+  /// makes the current positions the rest positions (the Laplacian coordinates and weights are
+  /// recomputed at the next `preprocess()`).
+  void overwrite_initial_geometry()
+  {
+    m_rest = internal::vertex_positions(m_tm, m_vpm, m_vim);
+    std::fill(m_moved.begin(), m_moved.end(), 0);
+    m_operator_ready = false;
+    m_need_preprocess = true;
+  }
+  /// the outcome of the last `preprocess()` or `deform()`.
+  const Deformation_result& last_result() const { return m_last; }
+  /// @}
+
+  /// \name Access
+  /// @{
+  /// the mesh.
+  const Triangle_mesh& triangle_mesh() const { return m_tm; }
+  /// the vertex point map.
+  const Vertex_point_map& point_map() const { return m_vpm; }
+  /// the nodes of the representation (available after a successful `preprocess()`).
+  const Nodes& nodes() const { CGAL_precondition(m_nodes.has_value()); return *m_nodes; }
+  /// the dense indices of the nodes that carry a row (a fitted transform), increasing.
+  const std::vector<std::size_t>& row_nodes() const { return m_core.rows(); }
+  /// the transform `T_a` of node index `a` used by the last iteration (identity outside the rows).
+  Eigen::Matrix3d node_transform(std::size_t a) const
+  {
+    const auto& rows = m_core.rows();
+    const auto it = std::lower_bound(rows.begin(), rows.end(), a);
+    return it != rows.end() && *it == a ? m_core.transforms()[std::size_t(it - rows.begin())]
+                                        : Eigen::Matrix3d::Identity().eval();
+  }
+  /// the number of factorisations performed so far.
+  std::size_t number_of_factorizations() const { return m_core.number_of_factorizations(); }
+  /// @}
+
+private:
+  typedef typename CGAL::GetInitializedVertexIndexMap<TriangleMesh>::const_type Vertex_index_map;
+
+  std::size_t index(vertex_descriptor v) const { return static_cast<std::size_t>(get(m_vim, v)); }
+  static Eigen::Vector3d to_vector(const Point& p)
+  {
+    return Eigen::Vector3d(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+  }
+  void put_position(vertex_descriptor v, const Eigen::Vector3d& p, bool moved)
+  {
+    put(m_vpm, v, Point(p.x(), p.y(), p.z()));
+    m_moved[index(v)] = moved;
+  }
+  bool fail(Deformation_status status, const char* message)
+  {
+    m_last = Deformation_result();
+    m_last.status = status;
+    m_last.message = message;
+    return false;
+  }
+  bool check_topology()
+  {
+    if(num_vertices(m_tm) == m_number_of_vertices && num_edges(m_tm) == m_number_of_edges)
+      return true;
+    return fail(TOPOLOGY_CHANGED, "the mesh's topology changed since the deformer was constructed");
+  }
+  // the rest-geometry operator, shared by every ROI: stencils, weights, D, delta = D p_rest
+  void build_operator()
+  {
+    if(m_operator_ready)
+      return;
+    m_nodes.emplace(m_tm, m_vpm);
+    m_stencils = internal::laplacian_stencils(*m_nodes, m_number_of_vertices, m_vim);
+    internal::node_positions(m_stencils, m_rest, m_rest_nodes);
+    internal::compute_weights(m_stencils, m_rest_nodes, Weight_policy(), Geom_traits());
+    m_d = internal::laplacian_operator(m_stencils);
+    Eigen::MatrixX3d p(m_rest.size(), 3);
+    for(std::size_t v = 0; v < m_rest.size(); ++v)
+      p.row(Eigen::Index(v)) = m_rest[v].transpose();
+    m_delta = m_d * p;
+    m_operator_ready = true;
+  }
+  double region_diagonal() const
+  {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
+    for(vertex_descriptor v : m_roi)
+    {
+      lo = lo.cwiseMin(m_rest[index(v)]);
+      hi = hi.cwiseMax(m_rest[index(v)]);
+    }
+    return (hi - lo).norm();
+  }
+
+  Triangle_mesh& m_tm;
+  Vertex_point_map m_vpm;
+  Vertex_index_map m_vim;
+  std::size_t m_number_of_vertices, m_number_of_edges;
+  std::vector<Eigen::Vector3d> m_rest;
+  std::vector<vertex_descriptor> m_roi;
+  std::vector<unsigned char> m_is_roi, m_is_control, m_moved, m_role;
+  std::vector<Point> m_target;
+  std::optional<Nodes> m_nodes;
+  internal::Laplacian_stencils m_stencils;
+  Eigen::SparseMatrix<double> m_d;
+  Eigen::MatrixX3d m_delta;
+  std::vector<Eigen::Vector3d> m_rest_nodes;
+  internal::Deformation_core<Transform_policy, Solver_traits, ConcurrencyTag> m_core;
+  Deformation_result m_last;
+  double m_diagonal = 0;
+  double m_soft_weight = 1.;
+  unsigned int m_iterations = 5;
+  double m_tolerance = 1e-4;
+  bool m_soft = false;
+  bool m_operator_ready = false;
+  bool m_need_preprocess = true;
+};
+
+} // namespace Laplacian_deformation
+} // namespace CGAL
+
+#endif // CGAL_LAPLACIAN_DEFORMATION_MESH_DEFORMER_H

@@ -1,0 +1,37 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+
+#ifndef CGAL_LAPLACIAN_DEFORMATION_SIMILARITY_TRANSFORM_H
+#define CGAL_LAPLACIAN_DEFORMATION_SIMILARITY_TRANSFORM_H
+
+#include <CGAL/Laplacian_deformation/internal/closest_rotation_3.h>
+
+namespace CGAL {
+namespace Laplacian_deformation {
+
+/*!
+\ingroup PkgLaplacianDeformationPolicies
+
+\brief `T_a = s_a R_a`: rotation and isotropic scale (beyond the paper).
+
+`R_a` as in `Rotation_transform`, then `s_a = sum c e'.f / sum c |f|^2` with `f = R_a e_ab`,
+clamped to `[1e-2, 1e2]`. A rigid motion or a uniform scaling of all constraints is a fixed
+point and the limit of the iterations. Invariant under every similarity of the whole problem.
+
+\cgalModels{DeformationTransformPolicy}
+*/
+struct Similarity_transform
+{
+  /// returns `s_a R_a`.
+  Eigen::Matrix3d transform(const Transform_cell& cell) const
+  {
+    const Eigen::Matrix3d r = internal::closest_rotation(cell.covariance());
+    return internal::Scale_fit::isotropic(cell, r) * r;
+  }
+};
+
+} // namespace Laplacian_deformation
+} // namespace CGAL
+
+#endif // CGAL_LAPLACIAN_DEFORMATION_SIMILARITY_TRANSFORM_H

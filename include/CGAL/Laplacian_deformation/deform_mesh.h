@@ -1,0 +1,115 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+
+#ifndef CGAL_LAPLACIAN_DEFORMATION_DEFORM_MESH_H
+#define CGAL_LAPLACIAN_DEFORMATION_DEFORM_MESH_H
+
+#include <CGAL/Laplacian_deformation/Mesh_deformer.h>
+#include <CGAL/Laplacian_deformation/parameters.h>
+
+#include <CGAL/Named_function_parameters.h>
+#include <CGAL/boost/graph/named_params_helper.h>
+
+#include <iterator>
+
+namespace CGAL {
+namespace Laplacian_deformation {
+
+/*!
+\ingroup PkgLaplacianDeformationFunctions
+
+\brief deforms `tm` in one call: the vertices of `roi` are free, those of `controls` (which
+should belong to `roi`; they are added to it otherwise) are moved to `targets`, every other
+vertex stays fixed.
+
+Equivalent to a `Mesh_deformer` with the chosen policies, `insert_roi_vertices(roi)`,
+`insert_control_vertices(controls)`, one `set_target_position()` per control, and
+`deform(number_of_iterations, tolerance)`. On failure the mesh is left unchanged and the
+result says why.
+
+\tparam TriangleMesh a model of `FaceGraph` whose faces are triangles
+\tparam VertexRange a range of `boost::graph_traits<TriangleMesh>::%vertex_descriptor`
+\tparam PointRange a range of points, as many as `controls`
+
+\cgalNamedParamsBegin
+  \cgalParamNBegin{vertex_point_map}
+    \cgalParamDescription{a property map associating points to the vertices of `tm`}
+    \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+  \cgalParamNEnd
+  \cgalParamNBegin{representation}
+    \cgalParamDescription{a model of `DeformationRepresentation` (package parameter `CGAL::Laplacian_deformation::parameters::representation()`)}
+    \cgalParamDefault{`Edge_based_representation()`}
+  \cgalParamNEnd
+  \cgalParamNBegin{weight_policy}
+    \cgalParamDescription{a model of `DeformationWeightPolicy` (package parameter)}
+    \cgalParamDefault{`Cotangent_weights()`}
+  \cgalParamNEnd
+  \cgalParamNBegin{transform_policy}
+    \cgalParamDescription{a model of `DeformationTransformPolicy` (package parameter)}
+    \cgalParamDefault{`Scaled_rotation_transform()`}
+  \cgalParamNEnd
+  \cgalParamNBegin{sparse_linear_solver}
+    \cgalParamDescription{an instance of the solver traits (its type selects the solver)}
+    \cgalParamDefault{`Default_solver_traits()`}
+  \cgalParamNEnd
+  \cgalParamNBegin{number_of_iterations}
+    \cgalParamDescription{the largest number of iterations}
+    \cgalParamDefault{`4` (the paper uses 3 to 4)}
+  \cgalParamNEnd
+  \cgalParamNBegin{tolerance}
+    \cgalParamDescription{stop when an iteration moves no vertex by more than this fraction of the ROI's bounding-box diagonal (package parameter)}
+    \cgalParamDefault{`1e-4`}
+  \cgalParamNEnd
+  \cgalParamNBegin{soft_constraint_weight}
+    \cgalParamDescription{if given, the controls are soft with this relative weight (package parameter); otherwise hard}
+    \cgalParamDefault{hard constraints}
+  \cgalParamNEnd
+  \cgalParamNBegin{concurrency_tag}
+    \cgalParamDescription{`CGAL::Sequential_tag` or `CGAL::Parallel_tag` for the local step (package parameter)}
+    \cgalParamDefault{`CGAL::Parallel_if_available_tag`}
+  \cgalParamNEnd
+\cgalNamedParamsEnd
+*/
+template <class TriangleMesh, class VertexRange, class ControlRange, class PointRange,
+          class NamedParameters = CGAL::parameters::Default_named_parameters>
+Deformation_result deform_mesh(TriangleMesh& tm, const VertexRange& roi, const ControlRange& controls,
+                               const PointRange& targets,
+                               const NamedParameters& np = CGAL::parameters::default_values())
+{
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  using CGAL::parameters::is_default_parameter;
+  typedef typename CGAL::internal_np::Lookup_named_param_def<
+      internal_np::representation_t, NamedParameters, Edge_based_representation>::type Representation;
+  typedef typename CGAL::internal_np::Lookup_named_param_def<
+      internal_np::weight_policy_t, NamedParameters, Cotangent_weights>::type Weights;
+  typedef typename CGAL::internal_np::Lookup_named_param_def<
+      internal_np::transform_policy_t, NamedParameters, Scaled_rotation_transform>::type Transform;
+  typedef typename CGAL::internal_np::Lookup_named_param_def<
+      CGAL::internal_np::sparse_linear_solver_t, NamedParameters, Default_solver_traits>::type Solver;
+  typedef typename CGAL::internal_np::Lookup_named_param_def<
+      internal_np::concurrency_tag_t, NamedParameters, CGAL::Parallel_if_available_tag>::type Concurrency;
+  typedef typename GetVertexPointMap<TriangleMesh, NamedParameters>::type Vertex_point_map;
+
+  Mesh_deformer<TriangleMesh, Representation, Weights, Transform, Solver, Vertex_point_map, Concurrency>
+      deformer(tm, choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
+                                    get_property_map(CGAL::vertex_point, tm)));
+  deformer.insert_roi_vertices(std::begin(roi), std::end(roi));
+  deformer.insert_control_vertices(std::begin(controls), std::end(controls));
+  auto target = std::begin(targets);
+  for(auto v : controls)
+  {
+    CGAL_precondition(target != std::end(targets));
+    deformer.set_target_position(v, *target++);
+  }
+  if(!is_default_parameter<NamedParameters, internal_np::soft_constraint_weight_t>::value)
+    deformer.set_soft_constraints(choose_parameter(get_parameter(np, internal_np::soft_constraint_weight), 1.));
+  return deformer.deform(choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 4u),
+                         choose_parameter(get_parameter(np, internal_np::tolerance), 1e-4));
+}
+
+} // namespace Laplacian_deformation
+} // namespace CGAL
+
+#endif // CGAL_LAPLACIAN_DEFORMATION_DEFORM_MESH_H

@@ -1,0 +1,309 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+
+#ifndef CGAL_LAPLACIAN_DEFORMATION_INTERNAL_DEFORMATION_CORE_H
+#define CGAL_LAPLACIAN_DEFORMATION_INTERNAL_DEFORMATION_CORE_H
+
+#include <CGAL/Laplacian_deformation/Deformation_result.h>
+#include <CGAL/Laplacian_deformation/Least_squares_solver.h>
+#include <CGAL/Laplacian_deformation/Node_cell.h>
+#include <CGAL/Laplacian_deformation/internal/Laplacian_stencils.h>
+
+#include <CGAL/for_each.h>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+#include <vector>
+
+namespace CGAL {
+namespace Laplacian_deformation {
+namespace internal {
+
+enum Vertex_role : unsigned char
+{
+  FIXED_VERTEX = 0,      // outside the region of interest, held at its rest position
+  FREE_VERTEX,           // in the region of interest, unknown
+  HARD_CONTROL_VERTEX,   // known: at its target
+  SOFT_CONTROL_VERTEX    // unknown, pulled towards its target by a soft row
+};
+
+inline bool is_unknown(unsigned char role) { return role == FREE_VERTEX || role == SOFT_CONTROL_VERTEX; }
+
+// The representation-agnostic heart of Mesh_deformer: region of solution, rows, the factored
+// least-squares system, the parallel local step and the iterations. It sees a representation
+// only through its stencils and operator D.
+template <class TransformPolicy, class SolverTraits, class ConcurrencyTag>
+class Deformation_core
+{
+public:
+  // `d`: the full operator (nodes x vertices); `delta` = D p_rest; `rest_nodes` = P p_rest.
+  Deformation_result preprocess(const Laplacian_stencils& s, const Eigen::SparseMatrix<double>& d,
+                                const Eigen::MatrixX3d& delta,
+                                const std::vector<Eigen::Vector3d>& rest_nodes,
+                                const std::vector<unsigned char>& role, double soft_weight)
+  {
+    Deformation_result result;
+    m_ready = false;
+    m_stencils = &s;
+    const std::size_t n = s.number_of_vertices;
+
+    // unknowns
+    m_unknown_index.assign(n, -1);
+    m_unknowns.clear();
+    for(std::size_t v = 0; v < n; ++v)
+      if(is_unknown(role[v]))
+      {
+        m_unknown_index[v] = static_cast<long>(m_unknowns.size());
+        m_unknowns.push_back(v);
+      }
+    const Eigen::Index nu = static_cast<Eigen::Index>(m_unknowns.size());
+
+    // rows: every node whose stencil touches an unknown vertex
+    std::vector<long> row_of(s.number_of_nodes, -1);
+    m_rows.clear();
+    for(std::size_t v : m_unknowns)
+      for(Eigen::SparseMatrix<double>::InnerIterator it(d, Eigen::Index(v)); it; ++it)
+        if(row_of[it.row()] < 0)
+        {
+          row_of[it.row()] = 0;
+          m_rows.push_back(static_cast<std::size_t>(it.row()));
+        }
+    std::sort(m_rows.begin(), m_rows.end());
+    for(std::size_t r = 0; r < m_rows.size(); ++r)
+      row_of[m_rows[r]] = static_cast<long>(r);
+    const Eigen::Index nr = static_cast<Eigen::Index>(m_rows.size());
+
+    // split D[rows, :] into the unknown block A and the known block K
+    std::vector<Eigen::Triplet<double>> ta, tk;
+    std::vector<long> first_unknown(m_rows.size(), -1);
+    std::vector<char> row_has_known(m_rows.size(), 0);
+    Union_find components(m_unknowns.size());
+    for(std::size_t v = 0; v < n; ++v)
+      for(Eigen::SparseMatrix<double>::InnerIterator it(d, Eigen::Index(v)); it; ++it)
+      {
+        const long r = row_of[it.row()];
+        if(r < 0)
+          continue;
+        if(m_unknown_index[v] >= 0)
+        {
+          ta.emplace_back(Eigen::Index(r), Eigen::Index(m_unknown_index[v]), it.value());
+          if(first_unknown[r] < 0)
+            first_unknown[r] = m_unknown_index[v];
+          else
+            components.join(std::size_t(first_unknown[r]), std::size_t(m_unknown_index[v]));
+        }
+        else
+        {
+          tk.emplace_back(Eigen::Index(r), Eigen::Index(v), it.value());
+          row_has_known[r] = 1;
+        }
+      }
+
+    // singular configurations: a connected part of the unknowns with no anchor
+    std::vector<char> anchored(m_unknowns.size(), 0);
+    for(std::size_t r = 0; r < m_rows.size(); ++r)
+      if(row_has_known[r] && first_unknown[r] >= 0)
+        anchored[components.find(std::size_t(first_unknown[r]))] = 1;
+    for(std::size_t j = 0; j < m_unknowns.size(); ++j)
+      if(role[m_unknowns[j]] == SOFT_CONTROL_VERTEX)
+        anchored[components.find(j)] = 1;
+    std::vector<std::size_t> unanchored_size(m_unknowns.size(), 0);
+    for(std::size_t j = 0; j < m_unknowns.size(); ++j)
+      if(!anchored[components.find(j)])
+        result.unanchored_size = (std::max)(result.unanchored_size, ++unanchored_size[components.find(j)]);
+    if(result.unanchored_size > 0)
+    {
+      result.status = UNANCHORED_REGION;
+      result.message = "a connected part of " + std::to_string(result.unanchored_size) +
+                       " free vertices touches no fixed or control vertex: the system is singular";
+      return result;
+    }
+
+    // soft rows lambda (p_c - t_c), lambda^2 = soft_weight * mean diagonal of A^T A
+    m_soft.clear();
+    for(std::size_t j = 0; j < m_unknowns.size(); ++j)
+      if(role[m_unknowns[j]] == SOFT_CONTROL_VERTEX)
+        m_soft.push_back(j);
+    double sum_squares = 0;
+    for(const auto& t : ta)
+      sum_squares += t.value() * t.value();
+    m_lambda = nu > 0 ? std::sqrt(soft_weight * sum_squares / double(nu)) : 0.;
+    for(std::size_t k = 0; k < m_soft.size(); ++k)
+      ta.emplace_back(nr + Eigen::Index(k), Eigen::Index(m_soft[k]), m_lambda);
+
+    m_a.resize(nr + Eigen::Index(m_soft.size()), nu);
+    m_a.setFromTriplets(ta.begin(), ta.end());
+    m_known.resize(nr, Eigen::Index(n));
+    m_known.setFromTriplets(tk.begin(), tk.end());
+    if(nu > 0 && !m_solver.factor(m_a))
+    {
+      result.status = m_solver.info() == m_solver.NOT_FINITE ? NON_FINITE_INPUT : FACTORIZATION_FAILED;
+      result.message = m_solver.info() == m_solver.NOT_FINITE
+                           ? "the Laplacian operator is not finite (NaN or infinite rest positions)"
+                           : "the normal matrix could not be factored (numerically singular)";
+      return result;
+    }
+
+    // per-row cell data for the local step
+    m_delta.resize(nr, 3);
+    m_spoke_start.assign(1, 0);
+    m_rest_edges.clear();
+    m_fit_weights.clear();
+    for(std::size_t r = 0; r < m_rows.size(); ++r)
+    {
+      const std::size_t a = m_rows[r];
+      m_delta.row(Eigen::Index(r)) = delta.row(Eigen::Index(a));
+      for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
+      {
+        m_rest_edges.push_back(rest_nodes[a] - rest_nodes[s.neighbor[k]]);
+        m_fit_weights.push_back((std::max)(s.weight[k], 0.));
+      }
+      m_spoke_start.push_back(m_rest_edges.size());
+    }
+    m_current_edges.assign(m_rest_edges.size(), Eigen::Vector3d::Zero());
+    m_row_ids.resize(m_rows.size());
+    std::iota(m_row_ids.begin(), m_row_ids.end(), std::size_t(0));
+    m_transforms.assign(m_rows.size(), Eigen::Matrix3d::Identity());
+    m_has_solution = false;
+    m_ready = true;
+    return result;
+  }
+
+  // Runs up to `iterations` iterations. `positions` holds every vertex: the known ones at their
+  // prescribed positions, the soft controls at their targets, the free ones at their current
+  // positions; on success it receives the solution. `diagonal` scales the change criterion.
+  Deformation_result iterate(std::vector<Eigen::Vector3d>& positions, std::size_t iterations,
+                             double tolerance, double diagonal)
+  {
+    Deformation_result result;
+    const Eigen::Index nr = Eigen::Index(m_rows.size()), nu = Eigen::Index(m_unknowns.size());
+    if(nu == 0)
+      return result;
+
+    Eigen::MatrixX3d known(positions.size(), 3);
+    for(std::size_t v = 0; v < positions.size(); ++v)
+      known.row(Eigen::Index(v)) = positions[v].transpose();
+    const Eigen::MatrixX3d known_part = m_known * known;
+    Eigen::MatrixX3d b(m_a.rows(), 3), x;
+    for(std::size_t k = 0; k < m_soft.size(); ++k)
+      b.row(nr + Eigen::Index(k)) = m_lambda * positions[m_unknowns[m_soft[k]]].transpose();
+
+    // the current solution, or the rest-start positions, as the reference for the change
+    std::vector<Eigen::Vector3d> current = positions;
+    if(m_has_solution)
+      for(Eigen::Index j = 0; j < nu; ++j)
+        current[m_unknowns[std::size_t(j)]] = m_solution.row(j).transpose();
+
+    for(std::size_t iteration = 0; iteration < iterations; ++iteration)
+    {
+      if(m_has_solution)
+        local_step(current);
+      for(Eigen::Index r = 0; r < nr; ++r)
+        b.row(r) = (m_transforms[std::size_t(r)] * m_delta.row(r).transpose()).transpose() - known_part.row(r);
+      if(!m_solver.solve(b, x))
+      {
+        result.status = m_solver.info() == m_solver.NOT_FINITE ? NON_FINITE_RESULT : SOLVE_FAILED;
+        result.message = result.status == NON_FINITE_RESULT ? "the solution is not finite; nothing was written"
+                                                            : "the back-substitution failed; nothing was written";
+        return result;
+      }
+      double change = 0;
+      for(Eigen::Index j = 0; j < nu; ++j)
+      {
+        Eigen::Vector3d& p = current[m_unknowns[std::size_t(j)]];
+        change = (std::max)(change, (x.row(j).transpose() - p).norm());
+        p = x.row(j).transpose();
+      }
+      m_solution = x;
+      m_has_solution = true;
+      result.energies.push_back((m_a * x - b).squaredNorm());
+      result.last_change = diagonal > 0 ? change / diagonal : change;
+      ++result.iterations;
+      if(result.last_change <= tolerance)
+        break;
+    }
+    result.energy = result.energies.empty() ? 0. : result.energies.back();
+    for(std::size_t k = 0; k < m_soft.size(); ++k)
+    {
+      const std::size_t v = m_unknowns[m_soft[k]];
+      result.max_constraint_residual = (std::max)(result.max_constraint_residual, (current[v] - positions[v]).norm());
+    }
+    positions.swap(current);
+    return result;
+  }
+
+  // forget the previous solution: the next iteration starts with T = I
+  void restart()
+  {
+    m_has_solution = false;
+    std::fill(m_transforms.begin(), m_transforms.end(), Eigen::Matrix3d::Identity());
+  }
+
+  bool is_ready() const { return m_ready; }
+  const std::vector<std::size_t>& rows() const { return m_rows; }
+  const std::vector<Eigen::Matrix3d>& transforms() const { return m_transforms; }
+  std::size_t number_of_factorizations() const { return m_solver.number_of_factorizations(); }
+
+private:
+  struct Union_find
+  {
+    explicit Union_find(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), std::size_t(0)); }
+    std::size_t find(std::size_t i)
+    {
+      while(parent[i] != i)
+        i = parent[i] = parent[parent[i]];
+      return i;
+    }
+    void join(std::size_t i, std::size_t j) { parent[find(i)] = find(j); }
+    std::vector<std::size_t> parent;
+  };
+
+  // fits T_a for every row node, in parallel when ConcurrencyTag allows it
+  void local_step(const std::vector<Eigen::Vector3d>& p)
+  {
+    const Laplacian_stencils& s = *m_stencils;
+    auto node = [&](std::size_t a) {
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for(std::size_t k = s.combination_start[a]; k < s.combination_start[a + 1]; ++k)
+        x += s.combination_coefficient[k] * p[s.combination_vertex[k]];
+      return x;
+    };
+    CGAL::for_each<ConcurrencyTag>(m_row_ids, [&](std::size_t r) -> bool {
+      const std::size_t a = m_rows[r], first = m_spoke_start[r];
+      const Eigen::Vector3d xa = node(a);
+      for(std::size_t k = s.neighbor_start[a], i = first; k < s.neighbor_start[a + 1]; ++k, ++i)
+        m_current_edges[i] = xa - node(s.neighbor[k]);
+      const Transform_cell cell(m_rest_edges.data() + first, m_current_edges.data() + first,
+                                m_fit_weights.data() + first, m_spoke_start[r + 1] - first);
+      const Eigen::Matrix3d t = m_policy.transform(cell);
+      m_transforms[r] = t.allFinite() ? t : Eigen::Matrix3d::Identity();
+      return true;
+    });
+  }
+
+  const Laplacian_stencils* m_stencils = nullptr;
+  TransformPolicy m_policy;
+  Least_squares_solver<SolverTraits> m_solver;
+  std::vector<long> m_unknown_index;
+  std::vector<std::size_t> m_unknowns, m_rows, m_row_ids, m_soft, m_spoke_start;
+  Eigen::SparseMatrix<double> m_a, m_known;
+  double m_lambda = 0;
+  Eigen::MatrixX3d m_delta, m_solution;
+  std::vector<Eigen::Vector3d> m_rest_edges, m_current_edges;
+  std::vector<double> m_fit_weights;
+  std::vector<Eigen::Matrix3d> m_transforms;
+  bool m_has_solution = false;
+  bool m_ready = false;
+};
+
+} // namespace internal
+} // namespace Laplacian_deformation
+} // namespace CGAL
+
+#endif // CGAL_LAPLACIAN_DEFORMATION_INTERNAL_DEFORMATION_CORE_H

@@ -1,0 +1,103 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+
+#ifndef CGAL_LAPLACIAN_DEFORMATION_LAPLACIAN_MATRIX_H
+#define CGAL_LAPLACIAN_DEFORMATION_LAPLACIAN_MATRIX_H
+
+#include <CGAL/Laplacian_deformation/internal/Laplacian_stencils.h>
+
+#include <CGAL/boost/graph/named_params_helper.h>
+#include <CGAL/Named_function_parameters.h>
+
+#include <Eigen/SparseCore>
+
+#include <vector>
+
+namespace CGAL {
+namespace Laplacian_deformation {
+
+namespace internal {
+
+// positions of all vertices, indexed by the vertex index map
+template <class TriangleMesh, class VertexPointMap, class VertexIndexMap>
+std::vector<Eigen::Vector3d> vertex_positions(const TriangleMesh& tm, const VertexPointMap& vpm,
+                                              const VertexIndexMap& vim)
+{
+  std::vector<Eigen::Vector3d> p(static_cast<std::size_t>(num_vertices(tm)));
+  for(auto v : vertices(tm))
+  {
+    const auto& q = get(vpm, v);
+    p[static_cast<std::size_t>(get(vim, v))] =
+        Eigen::Vector3d(CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z()));
+  }
+  return p;
+}
+
+// the stencils of `representation` on `tm`, weighted by `weights`
+template <class Representation, class WeightPolicy, class TriangleMesh, class VertexPointMap,
+          class VertexIndexMap, class GeomTraits>
+Laplacian_stencils weighted_stencils(const TriangleMesh& tm, const Representation&,
+                                     const WeightPolicy& weights, const VertexPointMap& vpm,
+                                     const VertexIndexMap& vim, const GeomTraits& gt)
+{
+  const typename Representation::template Nodes<TriangleMesh, VertexPointMap> nodes(tm, vpm);
+  Laplacian_stencils s = laplacian_stencils(nodes, static_cast<std::size_t>(num_vertices(tm)), vim);
+  std::vector<Eigen::Vector3d> x;
+  node_positions(s, vertex_positions(tm, vpm, vim), x);
+  compute_weights(s, x, weights, gt);
+  return s;
+}
+
+} // namespace internal
+
+/*!
+\ingroup PkgLaplacianDeformationFunctions
+
+\brief returns the Laplacian operator `D = L_w P` of `tm` in the given representation and weights.
+
+Row `a` (in the representation's dense node index) gives the Laplacian coordinate of node `a`
+as a linear combination of the vertex positions: `delta_a = sum_b w_ab (x_a - x_b) = (D p)_a`,
+with columns in the order of the vertex index map. `D` annihilates constant fields.
+
+\tparam TriangleMesh a model of `FaceGraph` whose faces are triangles
+\tparam Representation a model of `DeformationRepresentation`
+\tparam WeightPolicy a model of `DeformationWeightPolicy`
+
+\cgalNamedParamsBegin
+  \cgalParamNBegin{vertex_point_map}
+    \cgalParamDescription{a property map associating points to the vertices of `tm`}
+    \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+  \cgalParamNEnd
+  \cgalParamNBegin{vertex_index_map}
+    \cgalParamDescription{a property map associating to each vertex of `tm` a unique index between `0` and `num_vertices(tm) - 1`}
+    \cgalParamDefault{an automatically indexed internal map}
+  \cgalParamNEnd
+  \cgalParamNBegin{geom_traits}
+    \cgalParamDescription{an instance of a geometric traits class, model of `Kernel`}
+    \cgalParamDefault{the kernel of the point type of the vertex point map}
+  \cgalParamNEnd
+\cgalNamedParamsEnd
+*/
+template <class TriangleMesh, class Representation, class WeightPolicy,
+          class NamedParameters = parameters::Default_named_parameters>
+Eigen::SparseMatrix<double> laplacian_matrix(const TriangleMesh& tm,
+                                             const Representation& representation,
+                                             const WeightPolicy& weights,
+                                             const NamedParameters& np = parameters::default_values())
+{
+  using parameters::choose_parameter;
+  using parameters::get_parameter;
+  const auto vpm = choose_parameter(get_parameter(np, internal_np::vertex_point),
+                                    get_const_property_map(CGAL::vertex_point, tm));
+  const auto vim = CGAL::get_initialized_vertex_index_map(tm, np);
+  const auto gt = choose_parameter<typename GetGeomTraits<TriangleMesh, NamedParameters>::type>(
+      get_parameter(np, internal_np::geom_traits));
+  return internal::laplacian_operator(
+      internal::weighted_stencils(tm, representation, weights, vpm, vim, gt));
+}
+
+} // namespace Laplacian_deformation
+} // namespace CGAL
+
+#endif // CGAL_LAPLACIAN_DEFORMATION_LAPLACIAN_MATRIX_H
