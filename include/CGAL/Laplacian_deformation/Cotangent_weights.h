@@ -8,7 +8,6 @@
 #include <CGAL/Laplacian_deformation/Node_cell.h>
 
 #include <CGAL/Weights/utils.h>
-#include <CGAL/Weights/mixed_voronoi_region_weights.h>
 
 #include <algorithm>
 #include <cmath>
@@ -23,9 +22,9 @@ namespace Laplacian_deformation {
 \brief Cotangent weights over the node's fan: `w_ab = (cot g1 + cot g2) / (2 Omega_a)`.
 
 `g1`, `g2` are the angles opposite the spoke `(x_a, x_b)` in the (one or two) fan triangles that
-contain it, and `Omega_a` is the mixed Voronoi area of `x_a` in its fan (Meyer et al. 2003).
-Both pieces come from CGAL's Weights package (`CGAL::Weights::cotangent()`,
-`CGAL::Weights::mixed_voronoi_area()`).
+contain it, and `Omega_a` is the mixed Voronoi area of `x_a` in its fan (Meyer et al. 2003,
+see `mixed_voronoi_area()`). The cotangents come from CGAL's Weights package
+(`CGAL::Weights::cotangent()`).
 
 <b>Linear precision.</b> On a planar mesh whose one-rings are strictly convex, the Laplacian
 coordinate of every interior node is zero, in both representations (the edge fans of non-convex
@@ -50,6 +49,22 @@ struct Cotangent_weights
   static constexpr double area_floor = 1e-6;
   /// relative area below which a fan triangle counts as degenerate.
   static constexpr double degenerate_area_ratio = 1e-12;
+
+  /// The mixed Voronoi area of `a` in the triangle `(a, b, c)` (Meyer et al. 2003): the Voronoi
+  /// area `(|ab|^2 cot c + |ac|^2 cot b) / 8` when no angle is obtuse, half the triangle's area
+  /// when the angle at `a` is obtuse, a quarter otherwise. This rule is continuous at right
+  /// angles. (`CGAL::Weights::mixed_voronoi_area()` of CGAL 5.5 takes half the area whichever
+  /// angle is obtuse, which jumps at right angles: on a grid of right triangles a mere translation
+  /// changed the operator; hence this function, built on CGAL's cotangents.)
+  static double mixed_voronoi_area(double triangle_area, double ab2, double ac2, double cot_b,
+                                   double cot_c, double dot_at_a)
+  {
+    if(dot_at_a < 0)
+      return triangle_area / 2;
+    if(cot_b < 0 || cot_c < 0)
+      return triangle_area / 4;
+    return (ab2 * cot_c + ac2 * cot_b) / 8;
+  }
 
   /// fills `w` (of size `cell.number_of_neighbors()`) with the cotangent weights of the cell.
   template <class GeomTraits>
@@ -78,15 +93,19 @@ struct Cotangent_weights
       const auto& t = cell.fan_triangle(k);
       const auto& b = cell.neighbor(t[0]);
       const auto& c = cell.neighbor(t[1]);
-      const double twice_area = std::sqrt(CGAL::to_double(
-          gt.compute_squared_length_3_object()(gt.construct_cross_product_vector_3_object()(
-              gt.construct_vector_3_object()(a, b), gt.construct_vector_3_object()(a, c)))));
-      if(!(twice_area > degenerate_area_ratio * (squared_length(a, b) + squared_length(a, c))))
+      const auto ab = gt.construct_vector_3_object()(a, b), ac = gt.construct_vector_3_object()(a, c);
+      const double ab2 = squared_length(a, b), ac2 = squared_length(a, c);
+      const double triangle_area = 0.5 * std::sqrt(CGAL::to_double(
+          gt.compute_squared_length_3_object()(gt.construct_cross_product_vector_3_object()(ab, ac))));
+      if(!(2 * triangle_area > degenerate_area_ratio * (ab2 + ac2)))
         continue;
       // the angle at c is opposite the spoke (a, b), the angle at b opposite (a, c)
-      w[t[0]] += clamp(CGAL::to_double(CGAL::Weights::cotangent(a, c, b, gt)));
-      w[t[1]] += clamp(CGAL::to_double(CGAL::Weights::cotangent(a, b, c, gt)));
-      area += CGAL::to_double(CGAL::Weights::mixed_voronoi_area(b, a, c, gt));
+      const double cot_c = CGAL::to_double(CGAL::Weights::cotangent(a, c, b, gt));
+      const double cot_b = CGAL::to_double(CGAL::Weights::cotangent(a, b, c, gt));
+      w[t[0]] += clamp(cot_c);
+      w[t[1]] += clamp(cot_b);
+      area += mixed_voronoi_area(triangle_area, ab2, ac2, cot_b, cot_c,
+                                 CGAL::to_double(gt.compute_scalar_product_3_object()(ab, ac)));
     }
     area = (std::max)(area, area_floor * mean_squared_spoke);
     if(!(area > 0))     // every spoke has zero length: no geometry to encode

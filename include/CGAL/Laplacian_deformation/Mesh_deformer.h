@@ -310,6 +310,16 @@ public:
     }
     m_core.restart();
   }
+  /// warm start: the next iteration fits the transforms to the current positions of the mesh
+  /// (for instance a pose saved earlier) instead of starting with `T = I`. Preprocesses if needed;
+  /// returns `false` if that fails.
+  bool start_from_current_positions()
+  {
+    if(m_need_preprocess && !preprocess())
+      return false;
+    m_core.start_from(internal::vertex_positions(m_tm, m_vpm, m_vim));
+    return true;
+  }
   /// makes the current positions the rest positions (the Laplacian coordinates and weights are
   /// recomputed at the next `preprocess()`).
   void overwrite_initial_geometry()

@@ -80,19 +80,19 @@ with columns in the order of the vertex index map. `D` annihilates constant fiel
 \cgalNamedParamsEnd
 */
 template <class TriangleMesh, class Representation, class WeightPolicy,
-          class NamedParameters = parameters::Default_named_parameters>
+          class NamedParameters = CGAL::parameters::Default_named_parameters>
 Eigen::SparseMatrix<double> laplacian_matrix(const TriangleMesh& tm,
                                              const Representation& representation,
                                              const WeightPolicy& weights,
-                                             const NamedParameters& np = parameters::default_values())
+                                             const NamedParameters& np = CGAL::parameters::default_values())
 {
-  using parameters::choose_parameter;
-  using parameters::get_parameter;
-  const auto vpm = choose_parameter(get_parameter(np, internal_np::vertex_point),
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  const auto vpm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
                                     get_const_property_map(CGAL::vertex_point, tm));
   const auto vim = CGAL::get_initialized_vertex_index_map(tm, np);
   const auto gt = choose_parameter<typename GetGeomTraits<TriangleMesh, NamedParameters>::type>(
-      get_parameter(np, internal_np::geom_traits));
+      get_parameter(np, CGAL::internal_np::geom_traits));
   return internal::laplacian_operator(
       internal::weighted_stencils(tm, representation, weights, vpm, vim, gt));
 }

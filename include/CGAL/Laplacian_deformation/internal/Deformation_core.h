@@ -245,6 +245,15 @@ public:
     std::fill(m_transforms.begin(), m_transforms.end(), Eigen::Matrix3d::Identity());
   }
 
+  // the next iteration fits the transforms to `positions` instead of starting with T = I
+  void start_from(const std::vector<Eigen::Vector3d>& positions)
+  {
+    m_solution.resize(Eigen::Index(m_unknowns.size()), 3);
+    for(std::size_t j = 0; j < m_unknowns.size(); ++j)
+      m_solution.row(Eigen::Index(j)) = positions[m_unknowns[j]].transpose();
+    m_has_solution = true;
+  }
+
   bool is_ready() const { return m_ready; }
   const std::vector<std::size_t>& rows() const { return m_rows; }
   const std::vector<Eigen::Matrix3d>& transforms() const { return m_transforms; }

@@ -1,0 +1,555 @@
+// Tests of Mesh_deformer.h: the properties of DESIGN section 6 over every
+// representation x weights x transform combination, constraints, failures, re-factorisation.
+#include "test_helpers.h"
+
+#include <CGAL/Laplacian_deformation.h>
+
+#include <CGAL/Polygon_mesh_processing/bbox.h>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+
+namespace LD = CGAL::Laplacian_deformation;
+using namespace Laplacian_deformation_test;
+
+namespace {
+
+typedef Kernel::Point_3 Point_3;
+typedef boost::graph_traits<Surface_mesh>::vertex_descriptor vertex_descriptor;
+
+template <class R, class W, class T>
+struct Config
+{
+  typedef R Representation;
+  typedef W Weights;
+  typedef T Transform;
+  typedef LD::Mesh_deformer<Surface_mesh, R, W, T, CGAL::Default, CGAL::Default, CGAL::Sequential_tag> Deformer;
+};
+
+// positions as Eigen vectors, by vertex index
+std::vector<Eigen::Vector3d> positions(const Surface_mesh& m)
+{
+  std::vector<Eigen::Vector3d> p;
+  for(vertex_descriptor v : vertices(m))
+    p.emplace_back(m.point(v).x(), m.point(v).y(), m.point(v).z());
+  return p;
+}
+
+double diagonal(const Surface_mesh& m)
+{
+  const CGAL::Bbox_3 b = CGAL::Polygon_mesh_processing::bbox(m);
+  return std::sqrt(CGAL::square(b.xmax() - b.xmin()) + CGAL::square(b.ymax() - b.ymin()) +
+                   CGAL::square(b.zmax() - b.zmin()));
+}
+
+// the largest distance between two position sets, relative to `scale`
+double max_distance(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double scale)
+{
+  double d = 0;
+  for(std::size_t i = 0; i < a.size(); ++i)
+    d = (std::max)(d, (a[i] - b[i]).norm());
+  return d / scale;
+}
+
+Point_3 to_point(const Eigen::Vector3d& p) { return Point_3(p.x(), p.y(), p.z()); }
+
+Surface_mesh bumpy_sphere()
+{
+  Soup s = icosphere_soup(2);
+  for(auto& p : s.points)
+  {
+    const double r = 1. + 0.08 * std::sin(3 * p[0]) * std::cos(2 * p[1]) + 0.05 * std::sin(4 * p[2]);
+    for(double& c : p)
+      c *= r;
+  }
+  return to_mesh<Surface_mesh>(s);
+}
+
+Surface_mesh bumpy_plane() { return to_mesh<Surface_mesh>(bumpy_plane_soup(12, 0.08)); }
+
+// A deformation task: ROI, controls and a map from rest to target positions.
+struct Task
+{
+  std::vector<vertex_descriptor> roi, controls;
+};
+
+// closed mesh: the whole mesh is the ROI, every 7th vertex a control
+Task spread_controls(const Surface_mesh& m)
+{
+  Task t;
+  for(vertex_descriptor v : vertices(m))
+  {
+    t.roi.push_back(v);
+    if(std::size_t(v) % 7 == 0)
+      t.controls.push_back(v);
+  }
+  return t;
+}
+
+// open patch: interior vertices free, border fixed, vertices near the centre are controls
+Task patch_task(const Surface_mesh& m)
+{
+  Task t;
+  for(vertex_descriptor v : vertices(m))
+  {
+    if(CGAL::is_border(v, m))
+      continue;
+    t.roi.push_back(v);
+    const Point_3& p = m.point(v);
+    if(CGAL::square(p.x() - 0.5) + CGAL::square(p.y() - 0.5) < 0.02)
+      t.controls.push_back(v);
+  }
+  return t;
+}
+
+template <class Deformer, class Map>
+LD::Deformation_result run(Surface_mesh& m, const Task& t, Map target_of, unsigned int iterations,
+                           double tolerance = 0.)
+{
+  Deformer d(m);
+  d.insert_roi_vertices(t.roi.begin(), t.roi.end());
+  d.insert_control_vertices(t.controls.begin(), t.controls.end());
+  for(vertex_descriptor v : t.controls)
+    d.set_target_position(v, to_point(target_of(positions(m)[std::size_t(v)])));
+  return d.deform(iterations, tolerance);
+}
+
+Eigen::Matrix3d some_rotation()
+{
+  return Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+}
+
+template <class C>
+class EveryCombination : public ::testing::Test {};
+
+#define LD_TRANSFORMS(R, W)                                                                            \
+  Config<R, W, LD::Fixed_transform>, Config<R, W, LD::Rotation_transform>,                                \
+  Config<R, W, LD::Similarity_transform>, Config<R, W, LD::Scaled_rotation_transform>,                    \
+  Config<R, W, LD::Principal_scaled_rotation_transform>, Config<R, W, LD::Rotation_scale_rotation_transform>
+typedef ::testing::Types<
+  LD_TRANSFORMS(LD::Vertex_based_representation, LD::Uniform_weights),
+  LD_TRANSFORMS(LD::Vertex_based_representation, LD::Cotangent_weights),
+  LD_TRANSFORMS(LD::Edge_based_representation, LD::Uniform_weights),
+  LD_TRANSFORMS(LD::Edge_based_representation, LD::Cotangent_weights)> All_combinations;
+#undef LD_TRANSFORMS
+TYPED_TEST_SUITE(EveryCombination, All_combinations);
+
+} // namespace
+
+TYPED_TEST(EveryCombination, NothingMovesWhenTargetsAreRest)
+{
+  Surface_mesh m = bumpy_plane();
+  const auto rest = positions(m);
+  const auto r = run<typename TypeParam::Deformer>(m, patch_task(m), [](const Eigen::Vector3d& p) { return p; }, 4);
+  ASSERT_TRUE(r) << r.message;
+  EXPECT_LE(max_distance(positions(m), rest, diagonal(m)), 1e-12);
+}
+
+TYPED_TEST(EveryCombination, TranslationAndUniformScaleInvariance)
+{
+  Surface_mesh m = bumpy_plane();
+  const Task task = patch_task(m);
+  const auto pull = [](const Eigen::Vector3d& p) { return Eigen::Vector3d(p + Eigen::Vector3d(0.05, -0.1, 0.3)); };
+  ASSERT_TRUE(run<typename TypeParam::Deformer>(m, task, pull, 4));
+  const auto reference = positions(m);
+
+  for(double s : { 1., 1e3, 1e-3 })
+  {
+    const Eigen::Vector3d shift(10., -20., 5.);
+    auto similar = [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(s * p + shift); };
+    Surface_mesh moved = bumpy_plane();
+    for(vertex_descriptor v : vertices(moved))
+      moved.point(v) = to_point(similar(positions(bumpy_plane())[std::size_t(v)]));
+    const auto r = run<typename TypeParam::Deformer>(moved, task,
+        [&](const Eigen::Vector3d& p) { return similar(pull((p - shift) / s)); }, 4);
+    ASSERT_TRUE(r) << r.message;
+    std::vector<Eigen::Vector3d> expected;
+    for(const auto& p : reference)
+      expected.push_back(similar(p));
+    // The principal frame of a cell whose two tangential rest eigenvalues coincide (regular
+    // grids) is defined by round-off only, so that policy is invariant only to about 1e-6.
+    const double bound =
+        std::is_same<typename TypeParam::Transform, LD::Principal_scaled_rotation_transform>::value ? 1e-5 : 1e-9;
+    EXPECT_LE(max_distance(positions(moved), expected, s * diagonal(m)), bound) << "scale " << s;
+  }
+}
+
+TYPED_TEST(EveryCombination, HardConstraintsAreMetAndFailuresLeaveTheMeshUnchanged)
+{
+  Surface_mesh m = bumpy_plane();
+  const Task task = patch_task(m);
+  typename TypeParam::Deformer d(m);
+  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  d.insert_control_vertices(task.controls.begin(), task.controls.end());
+  d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0, 0, 0.4));
+  const auto r = d.deform(3, 0.);
+  ASSERT_TRUE(r) << r.message;
+  // Fixed_transform stops after the second iteration, whose change is exactly zero
+  EXPECT_EQ(r.iterations, (std::is_same<typename TypeParam::Transform, LD::Fixed_transform>::value ? 2u : 3u));
+  EXPECT_EQ(r.energies.size(), r.iterations);
+  for(vertex_descriptor v : task.controls)
+    EXPECT_LE(std::sqrt(CGAL::squared_distance(m.point(v), d.target_position(v))), 1e-10 * diagonal(m));
+
+  // a NaN target: clear error, nothing written
+  const auto before = positions(m);
+  d.set_target_position(task.controls.front(), Point_3(std::nan(""), 0, 0));
+  const auto failed = d.deform(1, 0.);
+  EXPECT_EQ(failed.status, LD::NON_FINITE_INPUT);
+  EXPECT_EQ(positions(m), before);
+}
+
+namespace {
+
+// rotation-based policies: every policy but Fixed
+template <class C>
+class RotationBased : public ::testing::Test {};
+#define LD_ROTATION_BASED(R, W)                                                                        \
+  Config<R, W, LD::Rotation_transform>, Config<R, W, LD::Similarity_transform>,                           \
+  Config<R, W, LD::Scaled_rotation_transform>, Config<R, W, LD::Principal_scaled_rotation_transform>,     \
+  Config<R, W, LD::Rotation_scale_rotation_transform>
+typedef ::testing::Types<
+  LD_ROTATION_BASED(LD::Vertex_based_representation, LD::Uniform_weights),
+  LD_ROTATION_BASED(LD::Vertex_based_representation, LD::Cotangent_weights),
+  LD_ROTATION_BASED(LD::Edge_based_representation, LD::Uniform_weights),
+  LD_ROTATION_BASED(LD::Edge_based_representation, LD::Cotangent_weights)> Rotation_based_combinations;
+#undef LD_ROTATION_BASED
+TYPED_TEST_SUITE(RotationBased, Rotation_based_combinations);
+
+// Starts at `start(rest)`, with targets at the same map of the rest positions, iterates once.
+template <class Deformer, class Map>
+double fixed_point_defect(Map start)
+{
+  Surface_mesh m = bumpy_sphere();
+  const auto rest = positions(m);
+  const Task task = spread_controls(m);
+  Deformer d(m);
+  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  d.insert_control_vertices(task.controls.begin(), task.controls.end());
+  for(vertex_descriptor v : task.controls)
+    d.set_target_position(v, to_point(start(rest[std::size_t(v)])));
+  EXPECT_TRUE(d.preprocess());
+  std::vector<Eigen::Vector3d> expected;
+  for(vertex_descriptor v : vertices(m))
+  {
+    expected.push_back(start(rest[std::size_t(v)]));
+    m.point(v) = to_point(expected.back());
+  }
+  EXPECT_TRUE(d.start_from_current_positions());
+  const auto r = d.deform(1, 0.);
+  EXPECT_TRUE(r) << r.message;
+  return max_distance(positions(m), expected, diagonal(m));
+}
+
+} // namespace
+
+TYPED_TEST(RotationBased, RigidMotionIsAFixedPoint)
+{
+  const Eigen::Matrix3d g = some_rotation();
+  const double defect = fixed_point_defect<typename TypeParam::Deformer>(
+      [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(g * p + Eigen::Vector3d(1, 2, 3)); });
+  EXPECT_LE(defect, 1e-10);
+}
+
+TEST(MeshDeformer, UniformScaleIsAFixedPointOfScaledPolicies)
+{
+  auto scale = [](const Eigen::Vector3d& p) { return Eigen::Vector3d(1.5 * p + Eigen::Vector3d(0.2, 0, 0)); };
+  typedef LD::Edge_based_representation E;
+  typedef LD::Vertex_based_representation V;
+  typedef LD::Cotangent_weights C;
+  EXPECT_LE((fixed_point_defect<Config<E, C, LD::Similarity_transform>::Deformer>(scale)), 1e-10);
+  EXPECT_LE((fixed_point_defect<Config<E, C, LD::Scaled_rotation_transform>::Deformer>(scale)), 1e-10);
+  EXPECT_LE((fixed_point_defect<Config<V, C, LD::Similarity_transform>::Deformer>(scale)), 1e-10);
+  EXPECT_LE((fixed_point_defect<Config<V, C, LD::Scaled_rotation_transform>::Deformer>(scale)), 1e-10);
+  // rotation-only keeps the rest size of the details: the scaled mesh is not a fixed point
+  EXPECT_GT((fixed_point_defect<Config<E, C, LD::Rotation_transform>::Deformer>(scale)), 1e-4);
+}
+
+namespace {
+
+// error to `motion(rest)` after `iterations` iterations from the T = I start
+template <class Deformer, class Map>
+double convergence_error(Map motion, unsigned int iterations)
+{
+  Surface_mesh m = bumpy_sphere();
+  const auto rest = positions(m);
+  const auto r = run<Deformer>(m, spread_controls(m), motion, iterations);
+  EXPECT_TRUE(r) << r.message;
+  std::vector<Eigen::Vector3d> expected;
+  for(const auto& p : rest)
+    expected.push_back(motion(p));
+  return max_distance(positions(m), expected, diagonal(m));
+}
+
+} // namespace
+
+TEST(MeshDeformer, RotationAndSimilarityConvergeToRigidMotionFixedDoesNot)
+{
+  const Eigen::Matrix3d g = some_rotation();
+  auto rigid = [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(g * p + Eigen::Vector3d(1, 2, 3)); };
+  typedef LD::Edge_based_representation E;
+  typedef LD::Vertex_based_representation V;
+  typedef LD::Cotangent_weights C;
+  const double e_rot = convergence_error<Config<E, C, LD::Rotation_transform>::Deformer>(rigid, 200);
+  const double v_rot = convergence_error<Config<V, C, LD::Rotation_transform>::Deformer>(rigid, 200);
+  const double e_sim = convergence_error<Config<E, C, LD::Similarity_transform>::Deformer>(rigid, 200);
+  const double v_sim = convergence_error<Config<V, C, LD::Similarity_transform>::Deformer>(rigid, 200);
+  const double e_fix = convergence_error<Config<E, C, LD::Fixed_transform>::Deformer>(rigid, 200);
+  std::cout << "[measured] rigid motion, 200 iterations, error / diagonal: edge rotation " << e_rot
+            << ", vertex rotation " << v_rot << ", edge similarity " << e_sim << ", vertex similarity "
+            << v_sim << ", edge fixed " << e_fix << std::endl;
+  EXPECT_LE(e_rot, 1e-8);
+  EXPECT_LE(v_rot, 1e-8);
+  EXPECT_LE(e_sim, 1e-8);
+  EXPECT_LE(v_sim, 1e-8);
+  EXPECT_GT(e_fix, 1e-2);
+}
+
+TEST(MeshDeformer, SimilarityConvergesToUniformScaleRotationDoesNot)
+{
+  auto scale = [](const Eigen::Vector3d& p) { return Eigen::Vector3d(1.5 * p); };
+  typedef LD::Edge_based_representation E;
+  typedef LD::Vertex_based_representation V;
+  typedef LD::Cotangent_weights C;
+  const double e_sim = convergence_error<Config<E, C, LD::Similarity_transform>::Deformer>(scale, 200);
+  const double v_sim = convergence_error<Config<V, C, LD::Similarity_transform>::Deformer>(scale, 200);
+  const double e_rot = convergence_error<Config<E, C, LD::Rotation_transform>::Deformer>(scale, 200);
+  const double e_sr = convergence_error<Config<E, C, LD::Scaled_rotation_transform>::Deformer>(scale, 200);
+  const double v_sr = convergence_error<Config<V, C, LD::Scaled_rotation_transform>::Deformer>(scale, 200);
+  std::cout << "[measured] uniform scale 1.5, 200 iterations, error / diagonal: edge similarity " << e_sim
+            << ", vertex similarity " << v_sim << ", edge rotation " << e_rot
+            << ", edge S*R1 " << e_sr << ", vertex S*R1 " << v_sr << " (world-axis S*R1: reported, not asserted)"
+            << std::endl;
+  EXPECT_LE(e_sim, 1e-8);
+  EXPECT_LE(v_sim, 1e-8);
+  EXPECT_GT(e_rot, 1e-3);
+}
+
+namespace {
+template <class Deformer>
+double rotation_defect()
+{
+  const Eigen::Matrix3d g = some_rotation();
+  Surface_mesh m = bumpy_plane();
+  const Task task = patch_task(m);
+  auto pull = [](const Eigen::Vector3d& p) {
+    return Eigen::Vector3d(0.5 + 1.3 * (p.x() - 0.5), 0.5 + 0.8 * (p.y() - 0.5), p.z() + 0.3);
+  };
+  EXPECT_TRUE(run<Deformer>(m, task, pull, 4));
+  Surface_mesh rotated = bumpy_plane();
+  for(vertex_descriptor v : vertices(rotated))
+    rotated.point(v) = to_point(g * positions(bumpy_plane())[std::size_t(v)]);
+  EXPECT_TRUE(run<Deformer>(rotated, task, [&](const Eigen::Vector3d& p) {
+    return Eigen::Vector3d(g * pull(g.transpose() * p)); }, 4));
+  std::vector<Eigen::Vector3d> expected;
+  for(const auto& p : positions(m))
+    expected.push_back(g * p);
+  return max_distance(positions(rotated), expected, diagonal(m));
+}
+} // namespace
+
+TEST(MeshDeformer, RotationInvarianceAndItsMeasuredFailureForWorldAxisScaling)
+{
+  typedef LD::Edge_based_representation E;
+  typedef LD::Vertex_based_representation V;
+  typedef LD::Cotangent_weights C;
+  EXPECT_LE((rotation_defect<Config<E, C, LD::Rotation_transform>::Deformer>()), 1e-9);
+  EXPECT_LE((rotation_defect<Config<V, C, LD::Rotation_transform>::Deformer>()), 1e-9);
+  EXPECT_LE((rotation_defect<Config<E, C, LD::Similarity_transform>::Deformer>()), 1e-9);
+  EXPECT_LE((rotation_defect<Config<E, C, LD::Principal_scaled_rotation_transform>::Deformer>()), 1e-9);
+  const double e_sr = rotation_defect<Config<E, C, LD::Scaled_rotation_transform>::Deformer>();
+  const double v_sr = rotation_defect<Config<V, C, LD::Scaled_rotation_transform>::Deformer>();
+  std::cout << "[measured] world-axis S*R1 rotation-invariance defect / diagonal: edge " << e_sr
+            << ", vertex " << v_sr << std::endl;
+  EXPECT_GT(e_sr, 1e-6);
+  EXPECT_GT(v_sr, 1e-6);
+}
+
+TEST(MeshDeformer, SoftConstraintsApproachTargetsAsWeightGrows)
+{
+  double previous = HUGE_VAL;
+  for(double w : { 1e-2, 1., 1e2, 1e4, 1e6 })
+  {
+    Surface_mesh m = bumpy_plane();
+    const Task task = patch_task(m);
+    LD::Mesh_deformer<Surface_mesh> d(m);
+    d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+    d.insert_control_vertices(task.controls.begin(), task.controls.end());
+    d.set_soft_constraints(w);
+    d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0, 0, 0.4));
+    const auto r = d.deform(4, 0.);
+    ASSERT_TRUE(r) << r.message;
+    double residual = 0;
+    for(vertex_descriptor v : task.controls)
+      residual = (std::max)(residual, std::sqrt(CGAL::squared_distance(m.point(v), d.target_position(v))));
+    EXPECT_NEAR(residual, r.max_constraint_residual, 1e-12);
+    EXPECT_LT(residual, previous) << "weight " << w;
+    previous = residual;
+  }
+  EXPECT_LT(previous, 1e-4);
+}
+
+TEST(MeshDeformer, UnanchoredRegionIsReportedAndMeshUntouched)
+{
+  Surface_mesh m = to_mesh<Surface_mesh>(two_components_soup());
+  const auto before = positions(m);
+  LD::Mesh_deformer<Surface_mesh> d(m);
+  for(vertex_descriptor v : vertices(m))
+    d.insert_roi_vertex(v);
+  d.insert_control_vertex(*vertices(m).begin());     // anchors the first sphere only
+  d.translate(*vertices(m).begin(), Eigen::Vector3d(0.5, 0, 0));
+  EXPECT_FALSE(d.preprocess());
+  EXPECT_EQ(d.last_result().status, LD::UNANCHORED_REGION);
+  EXPECT_EQ(d.last_result().unanchored_size, num_vertices(m) / 2);
+  EXPECT_NE(d.last_result().message.find(std::to_string(num_vertices(m) / 2)), std::string::npos);
+  const auto r = d.deform();
+  EXPECT_EQ(r.status, LD::UNANCHORED_REGION);
+  EXPECT_EQ(positions(m), before);
+
+  LD::Mesh_deformer<Surface_mesh> empty(m);
+  EXPECT_FALSE(empty.preprocess());
+  EXPECT_EQ(empty.last_result().status, LD::EMPTY_REGION_OF_INTEREST);
+}
+
+TEST(MeshDeformer, RefactorsOnlyWhenTheSystemChanges)
+{
+  Surface_mesh m = bumpy_plane();
+  const Task task = patch_task(m);
+  LD::Mesh_deformer<Surface_mesh> d(m);
+  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  d.insert_control_vertices(task.controls.begin(), task.controls.end());
+  ASSERT_TRUE(d.preprocess());
+  EXPECT_EQ(d.number_of_factorizations(), 1u);
+  for(int k = 0; k < 3; ++k)
+  {
+    d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0, 0, 0.1));
+    d.rotate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0.5, 0.5, 0),
+             Eigen::Quaternion<double>(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ())));
+    ASSERT_TRUE(d.deform(2, 0.));
+  }
+  EXPECT_EQ(d.number_of_factorizations(), 1u);
+  d.erase_roi_vertex(task.roi.front());
+  ASSERT_TRUE(d.deform(1, 0.));
+  EXPECT_EQ(d.number_of_factorizations(), 2u);
+  d.insert_control_vertex(task.roi.back());
+  ASSERT_TRUE(d.deform(1, 0.));
+  EXPECT_EQ(d.number_of_factorizations(), 3u);
+  d.set_soft_constraints(10.);
+  ASSERT_TRUE(d.deform(1, 0.));
+  EXPECT_EQ(d.number_of_factorizations(), 4u);
+  d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0.1, 0, 0));
+  ASSERT_TRUE(d.deform(1, 0.));
+  EXPECT_EQ(d.number_of_factorizations(), 4u);
+}
+
+TEST(MeshDeformer, ResetRestoresRestAndIterationsCompose)
+{
+  Surface_mesh m = bumpy_plane();
+  const auto rest = positions(m);
+  const Task task = patch_task(m);
+  LD::Mesh_deformer<Surface_mesh> d(m);
+  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  d.insert_control_vertices(task.controls.begin(), task.controls.end());
+  d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0.1, 0, 0.4));
+  ASSERT_TRUE(d.deform(7, 0.));
+  const auto seven = positions(m);
+  EXPECT_NE(seven, rest);
+
+  d.reset();
+  EXPECT_EQ(positions(m), rest);                    // exactly
+  d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0.1, 0, 0.4));
+  for(int k = 0; k < 7; ++k)
+    ASSERT_TRUE(d.deform(1, 0.));
+  EXPECT_LE(max_distance(positions(m), seven, diagonal(m)), 1e-13);   // deform(7) == 7 x deform(1)
+
+  // repeated runs are deterministic; sequential and parallel local steps agree
+  Surface_mesh a = bumpy_plane(), b = bumpy_plane();
+  auto pull = [](const Eigen::Vector3d& p) { return Eigen::Vector3d(p + Eigen::Vector3d(0.1, 0, 0.4)); };
+  ASSERT_TRUE((run<LD::Mesh_deformer<Surface_mesh, CGAL::Default, CGAL::Default, CGAL::Default, CGAL::Default,
+                                     CGAL::Default, CGAL::Sequential_tag>>(a, task, pull, 7)));
+  ASSERT_TRUE((run<LD::Mesh_deformer<Surface_mesh, CGAL::Default, CGAL::Default, CGAL::Default, CGAL::Default,
+                                     CGAL::Default, CGAL::Parallel_if_available_tag>>(b, task, pull, 7)));
+  EXPECT_EQ(positions(a), seven);
+  EXPECT_LE(max_distance(positions(b), positions(a), diagonal(m)), 1e-14);
+}
+
+TEST(MeshDeformer, EdgeAndVertexBasedDifferOnDinoAndRotationConverges)
+{
+  Surface_mesh dino;
+  ASSERT_TRUE(read_data_mesh("dino.off", dino)) << data_path("dino.off");
+  // ROI: 12 rings around a vertex; handle: its 1-ring, pulled sideways
+  const vertex_descriptor seed = *std::next(vertices(dino).begin(), 1000);
+  std::vector<vertex_descriptor> roi{ seed }, handle{ seed };
+  std::map<vertex_descriptor, int> ring{ { seed, 0 } };
+  for(std::size_t i = 0; i < roi.size(); ++i)
+    for(vertex_descriptor w : CGAL::vertices_around_target(halfedge(roi[i], dino), dino))
+      if(ring[roi[i]] < 12 && ring.emplace(w, ring[roi[i]] + 1).second)
+      {
+        roi.push_back(w);
+        if(ring[w] == 1)
+          handle.push_back(w);
+      }
+  const double diag = diagonal(dino);
+  const Eigen::Vector3d pull(0.05 * diag, 0, 0);
+  auto deformed = [&](auto deformer_tag, unsigned int iterations, double tolerance, LD::Deformation_result& r) {
+    Surface_mesh m = dino;
+    typename decltype(deformer_tag)::Deformer d(m);
+    d.insert_roi_vertices(roi.begin(), roi.end());
+    d.insert_control_vertices(handle.begin(), handle.end());
+    d.translate(handle.begin(), handle.end(), pull);
+    r = d.deform(iterations, tolerance);
+    return positions(m);
+  };
+  typedef LD::Cotangent_weights C;
+  LD::Deformation_result re, rv;
+  const auto e = deformed(Config<LD::Edge_based_representation, C, LD::Scaled_rotation_transform>(), 4, 0., re);
+  const auto v = deformed(Config<LD::Vertex_based_representation, C, LD::Scaled_rotation_transform>(), 4, 0., rv);
+  ASSERT_TRUE(re) << re.message;
+  ASSERT_TRUE(rv) << rv.message;
+  const double difference = max_distance(e, v, diag);
+  std::cout << "[measured] dino, S*R1, 4 iterations: max |edge - vertex| / diagonal = " << difference << std::endl;
+  EXPECT_GT(difference, 1e-4);
+
+  for(int similarity = 0; similarity < 2; ++similarity)
+  {
+    LD::Deformation_result r;
+    if(similarity)
+      deformed(Config<LD::Edge_based_representation, C, LD::Similarity_transform>(), 100, 1e-5, r);
+    else
+      deformed(Config<LD::Edge_based_representation, C, LD::Rotation_transform>(), 100, 1e-5, r);
+    ASSERT_TRUE(r) << r.message;
+    std::cout << "[measured] dino edge-based " << (similarity ? "similarity" : "rotation") << ": "
+              << r.iterations << " iterations to a relative change of " << r.last_change << std::endl;
+    EXPECT_LE(r.last_change, 1e-5);
+    EXPECT_LT(r.iterations, 100u);
+    EXPECT_EQ(r.energies.size(), r.iterations);
+  }
+}
+
+TEST(DeformMesh, NamedParametersMatchTheClass)
+{
+  Surface_mesh a = bumpy_plane(), b = bumpy_plane();
+  const Task task = patch_task(a);
+  std::vector<Point_3> targets;
+  for(vertex_descriptor v : task.controls)
+    targets.push_back(a.point(v) + Kernel::Vector_3(0, 0.1, 0.3));
+  const auto r = LD::deform_mesh(a, task.roi, task.controls, targets,
+      LD::parameters::representation(LD::Vertex_based_representation(),
+      LD::parameters::transform_policy(LD::Rotation_transform(),
+      LD::parameters::tolerance(0., CGAL::parameters::number_of_iterations(3u)))));
+  ASSERT_TRUE(r) << r.message;
+  EXPECT_EQ(r.iterations, 3u);
+  typedef LD::Mesh_deformer<Surface_mesh, LD::Vertex_based_representation, LD::Cotangent_weights,
+                            LD::Rotation_transform> Deformer;
+  ASSERT_TRUE(run<Deformer>(b, task, [](const Eigen::Vector3d& p) {
+    return Eigen::Vector3d(p + Eigen::Vector3d(0, 0.1, 0.3)); }, 3));
+  EXPECT_LE(max_distance(positions(a), positions(b), diagonal(a)), 1e-14);
+
+  // soft constraints through the named parameter
+  Surface_mesh c = bumpy_plane();
+  const auto soft = LD::deform_mesh(c, task.roi, task.controls, targets, LD::parameters::soft_constraint_weight(1.));
+  ASSERT_TRUE(soft) << soft.message;
+  EXPECT_GT(soft.max_constraint_residual, 0.);
+}
