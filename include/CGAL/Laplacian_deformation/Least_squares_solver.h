@@ -12,6 +12,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
+#include <cmath>
 #include <cstddef>
 #include <type_traits>
 #include <utility>
@@ -64,13 +65,14 @@ public:
   bool factor(const Eigen::SparseMatrix<double>& a)
   {
     m_factored = false;
-    if(!Eigen::Map<const Eigen::VectorXd>(a.valuePtr(), a.nonZeros()).allFinite())
-      return fail(NOT_FINITE);
+    for(Eigen::Index k = 0; k < a.outerSize(); ++k)      // also right for uncompressed matrices
+      for(Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it)
+        if(!std::isfinite(it.value()))
+          return fail(NOT_FINITE);
     m_transposed = a.transpose();
     Eigen::SparseMatrix<double> normal = m_transposed * a;
     normal.makeCompressed();
-    m_matrix = Matrix(normal);
-    m_traits = Solver_traits();
+    m_matrix = Matrix(normal);     // owned: the traits keep a pointer to it
     typename Solver_traits::NT d;
     ++m_number_of_factorizations;
     if(!m_traits.factor(m_matrix, d))
@@ -102,7 +104,7 @@ public:
   std::size_t number_of_factorizations() const { return m_number_of_factorizations; }
   /// the number of unknowns per coordinate.
   Eigen::Index number_of_unknowns() const { return m_transposed.rows(); }
-  /// the solver traits (for example to tune the underlying solver).
+  /// the solver traits (for example to tune the underlying solver; settings are kept across factorisations).
   Solver_traits& solver_traits() { return m_traits; }
 
 private:
@@ -127,11 +129,11 @@ private:
     {
       Vector b(rhs.rows()), xc(rhs.rows());
       for(Eigen::Index i = 0; i < rhs.rows(); ++i)
-        b.set(i, rhs(i, c));
+        b[i] = rhs(i, c);
       if(!m_traits.linear_solver(b, xc))
         return false;
       for(Eigen::Index i = 0; i < rhs.rows(); ++i)
-        x(i, c) = xc(i);
+        x(i, c) = xc[i];
     }
     return true;
   }

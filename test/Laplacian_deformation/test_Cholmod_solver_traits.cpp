@@ -1,0 +1,127 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+
+// Least_squares_solver with CHOLMOD's supernodal Cholesky: same results as the default solver.
+
+#include <CGAL/Laplacian_deformation/Cholmod_solver_traits.h>
+#include <CGAL/Laplacian_deformation/Least_squares_solver.h>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <Eigen/QR>
+#include <Eigen/SparseCore>
+
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace {
+
+namespace LD = CGAL::Laplacian_deformation;
+
+typedef LD::Least_squares_solver<LD::Cholmod_solver_traits> Cholmod_solver;
+typedef LD::Least_squares_solver<> Default_solver;
+
+// A random sparse overdetermined full-rank matrix: about `density` of random entries in
+// [-1, 1], plus a diagonal block with entries in [1, 2] on the first `cols` rows.
+Eigen::SparseMatrix<double> random_sparse_matrix(Eigen::Index rows, Eigen::Index cols,
+                                                 double density, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> value(-1, 1), diag(1, 2), coin(0, 1);
+  std::vector<Eigen::Triplet<double> > triplets;
+  for(Eigen::Index i = 0; i < rows; ++i)
+    for(Eigen::Index j = 0; j < cols; ++j)
+      if(coin(rng) < density)
+        triplets.emplace_back(int(i), int(j), value(rng));
+  for(Eigen::Index j = 0; j < cols; ++j)
+    triplets.emplace_back(int(j), int(j), diag(rng));
+  Eigen::SparseMatrix<double> a(rows, cols);
+  a.setFromTriplets(triplets.begin(), triplets.end());
+  return a;
+}
+
+Eigen::MatrixX3d random_rhs(Eigen::Index rows, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> value(-10, 10);
+  Eigen::MatrixX3d b(rows, 3);
+  for(Eigen::Index i = 0; i < rows; ++i)
+    for(int c = 0; c < 3; ++c)
+      b(i, c) = value(rng);
+  return b;
+}
+
+double relative_error(const Eigen::MatrixX3d& x, const Eigen::MatrixX3d& reference)
+{
+  return (x - reference).norm() / reference.norm();
+}
+
+TEST(CholmodSolverTraits, MatchesDefaultSolver)
+{
+  for(unsigned seed : {1u, 2u, 3u})
+  {
+    const Eigen::SparseMatrix<double> a = random_sparse_matrix(200, 60, 0.05, seed);
+    Cholmod_solver cholmod;
+    Default_solver reference;
+    ASSERT_TRUE(cholmod.factor(a)) << "seed " << seed;
+    EXPECT_EQ(cholmod.info(), Cholmod_solver::SUCCESS);
+    ASSERT_TRUE(reference.factor(a)) << "seed " << seed;
+    for(unsigned rhs_seed : {seed + 100, seed + 200})
+    {
+      const Eigen::MatrixX3d b = random_rhs(200, rhs_seed);
+      Eigen::MatrixX3d x, x_reference;
+      ASSERT_TRUE(cholmod.solve(b, x)) << "seed " << seed;
+      EXPECT_EQ(cholmod.info(), Cholmod_solver::SUCCESS);
+      ASSERT_TRUE(reference.solve(b, x_reference)) << "seed " << seed;
+      EXPECT_LE(relative_error(x, x_reference), 1e-10) << "seed " << seed;
+      const Eigen::MatrixX3d x_dense = Eigen::MatrixXd(a).colPivHouseholderQr().solve(b);
+      EXPECT_LE(relative_error(x, x_dense), 1e-9) << "seed " << seed;
+    }
+    EXPECT_EQ(cholmod.number_of_factorizations(), 1u);
+  }
+}
+
+// A larger, sparser problem (1000 unknowns, 3000 rows); kept small since the fill-in of random
+// sparse normal matrices grows fast.
+TEST(CholmodSolverTraits, MatchesDefaultSolverOnLargerProblem)
+{
+  const Eigen::SparseMatrix<double> a = random_sparse_matrix(3000, 1000, 0.002, 4);
+  const Eigen::MatrixX3d b = random_rhs(3000, 5);
+  Cholmod_solver cholmod;
+  Default_solver reference;
+  ASSERT_TRUE(cholmod.factor(a));
+  ASSERT_TRUE(reference.factor(a));
+  Eigen::MatrixX3d x, x_reference;
+  ASSERT_TRUE(cholmod.solve(b, x));
+  ASSERT_TRUE(reference.solve(b, x_reference));
+  EXPECT_LE(relative_error(x, x_reference), 1e-10);
+}
+
+TEST(CholmodSolverTraits, ReportsFailures)
+{
+  Cholmod_solver solver;
+  Eigen::MatrixX3d x;
+  EXPECT_FALSE(solver.solve(random_rhs(200, 1), x));
+  EXPECT_EQ(solver.info(), Cholmod_solver::NOT_FACTORED);
+
+  Eigen::SparseMatrix<double> singular = random_sparse_matrix(200, 60, 0.05, 6);
+  singular.prune([](Eigen::Index, Eigen::Index col, double) { return col != 17; });
+  EXPECT_FALSE(solver.factor(singular));
+  EXPECT_EQ(solver.info(), Cholmod_solver::FACTORIZATION_FAILED);
+
+  Eigen::SparseMatrix<double> bad = random_sparse_matrix(200, 60, 0.05, 7);
+  bad.coeffRef(3, 3) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(solver.factor(bad));
+  EXPECT_EQ(solver.info(), Cholmod_solver::NOT_FINITE);
+
+  ASSERT_TRUE(solver.factor(random_sparse_matrix(200, 60, 0.05, 8)));
+  Eigen::MatrixX3d b = random_rhs(200, 9);
+  b(7, 2) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(solver.solve(b, x));
+  EXPECT_EQ(solver.info(), Cholmod_solver::NOT_FINITE);
+}
+
+} // namespace
