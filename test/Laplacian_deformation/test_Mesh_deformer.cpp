@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <limits>
 
 namespace LD = CGAL::Laplacian_deformation;
 using namespace Laplacian_deformation_test;
@@ -411,6 +412,26 @@ TEST(MeshDeformer, UnanchoredRegionIsReportedAndMeshUntouched)
   LD::Mesh_deformer<Surface_mesh> empty(m);
   EXPECT_FALSE(empty.preprocess());
   EXPECT_EQ(empty.last_result().status, LD::EMPTY_REGION_OF_INTEREST);
+}
+
+TEST(MeshDeformer, FailedDeformAfterRoiShrinkWritesNothing)
+{
+  Surface_mesh m = bumpy_plane();
+  const Task task = patch_task(m);
+  LD::Mesh_deformer<Surface_mesh> d(m);
+  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  d.insert_control_vertices(task.controls.begin(), task.controls.end());
+  d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0, 0, 0.4));
+  ASSERT_TRUE(d.deform(2, 0.));
+  const vertex_descriptor leaving = task.roi.front();           // moved by the deformation
+  const auto deformed = positions(m);
+  d.erase_roi_vertex(leaving);                                    // goes back to rest only on success
+  d.set_target_position(task.controls.front(), Point_3(0, std::numeric_limits<double>::infinity(), 0));
+  EXPECT_EQ(d.deform(1, 0.).status, LD::NON_FINITE_INPUT);
+  EXPECT_EQ(positions(m), deformed);
+  d.set_target_position(task.controls.front(), m.point(task.controls.front()));
+  ASSERT_TRUE(d.deform(1, 0.));
+  EXPECT_EQ(positions(m)[std::size_t(leaving)], positions(bumpy_plane())[std::size_t(leaving)]);
 }
 
 TEST(MeshDeformer, RefactorsOnlyWhenTheSystemChanges)

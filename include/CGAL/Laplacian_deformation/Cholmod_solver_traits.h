@@ -18,7 +18,7 @@ namespace Laplacian_deformation {
 \ingroup PkgLaplacianDeformationSolver
 \brief Solver traits for CHOLMOD's supernodal sparse Cholesky (SuiteSparse, through Eigen's
 `CholmodSupport`), to be passed as the `SolverTraits` parameter of `Mesh_deformer` or
-`Least_squares_solver`. Usually much faster than the default on large regions.
+`Least_squares_solver`.
 Include this header only when CHOLMOD is available and link `CGAL::Laplacian_deformation_cholmod`.
 */
 typedef CGAL::Eigen_solver_traits<

@@ -30,7 +30,7 @@ see `mixed_voronoi_area()`). The cotangents come from CGAL's Weights package
 coordinate of every interior node is zero, in both representations (the edge fans of non-convex
 rings contain flipped triangles, so the edge-based property is lost there first).
 
-<b>Guards.</b> A fan triangle whose area is below `degenerate_area_ratio` times the sum of its two
+<b>Guards.</b> A fan triangle whose doubled area is below `degenerate_area_ratio` times the sum of its two
 squared spoke lengths contributes neither cotangents nor area. Each cotangent is clamped to
 `[-max_cotangent, max_cotangent]` (an angle of about 1e-4 rad, or pi minus that), and `Omega_a`
 is floored at `area_floor` times the mean squared spoke length of the cell. The weights are then

@@ -45,7 +45,7 @@ struct Deformation_result
   std::size_t unanchored_size = 0;
   /// the number of iterations performed by `deform()`.
   std::size_t iterations = 0;
-  /// the energy `sum_a |T_a delta_a - D_a p'|^2` (plus the soft terms) after each iteration.
+  /// the energy <code>sum_a |T_a delta_a - D_a p'|^2</code> (plus the soft terms) after each iteration.
   /// Not guaranteed to decrease: the transforms are fitted to the cells, not to this energy.
   std::vector<double> energies;
   /// the last entry of `energies` (0 if none).

@@ -32,7 +32,7 @@ vocabulary: a region of interest (ROI), control vertices with target positions, 
 
 Vertices outside the ROI are fixed at their rest positions. Control vertices are in the ROI;
 with hard constraints (the default) they are placed exactly at their targets, with soft
-constraints they are pulled there by the term `lambda^2 |p'_c - t_c|^2`, `lambda^2` being
+constraints they are pulled there by the term <code>lambda^2 |p'_c - t_c|^2</code>, `lambda^2` being
 `soft_constraint_weight()` times the mean diagonal of the normal matrix (so that a uniform
 scaling of the problem does not change the result). The unknowns are the free vertices; the
 rows are every node whose Laplacian stencil touches a free vertex. The normal matrix does not
@@ -81,6 +81,7 @@ public:
 
   /// \name Construction
   /// @{
+
   /// creates a deformer for `tm`, whose current positions become the rest positions.
   /// `tm` must outlive the deformer, and its topology must not change.
   explicit Mesh_deformer(Triangle_mesh& tm) : Mesh_deformer(tm, get(CGAL::vertex_point, tm)) {}
@@ -99,6 +100,7 @@ public:
 
   /// \name Region of interest and control vertices
   /// @{
+
   /// inserts `v` in the ROI; returns `false` if it was already there.
   bool insert_roi_vertex(vertex_descriptor v)
   {
@@ -116,7 +118,7 @@ public:
       insert_roi_vertex(*begin);
   }
   /// removes `v` from the ROI (and from the controls); returns `false` if it was not in the ROI.
-  /// At the next successful `preprocess()`, a vertex no longer in the ROI goes back to its rest position.
+  /// At the next successful `preprocess()` or `deform()`, a vertex no longer in the ROI goes back to its rest position.
   bool erase_roi_vertex(vertex_descriptor v)
   {
     if(!is_roi_vertex(v))
@@ -178,6 +180,7 @@ public:
   /// \name Targets
   /// Moving targets never triggers a new factorisation.
   /// @{
+
   /// sets the target of the control vertex `v` (ignored if `v` is not a control vertex).
   void set_target_position(vertex_descriptor v, const Point& target)
   {
@@ -225,6 +228,7 @@ public:
 
   /// \name Constraints and iterations
   /// @{
+
   /// control vertices become soft constraints of relative weight `weight` (> 0); refactors at the next call.
   void set_soft_constraints(double weight) { m_soft = true; m_soft_weight = weight; m_need_preprocess = true; }
   /// control vertices become hard constraints (the default); refactors at the next call.
@@ -245,8 +249,18 @@ public:
 
   /// \name Deformation
   /// @{
+
   /// builds and factors the system. Returns `false` on failure (see `last_result()`), leaving the mesh unchanged.
   bool preprocess()
+  {
+    if(!prepare())
+      return false;
+    restore_vertices_outside_roi();
+    return true;
+  }
+  /// \cond SKIP_IN_MANUAL
+  // preprocess() without any write to the mesh
+  bool prepare()
   {
     m_last = Deformation_result();
     if(!check_topology())
@@ -265,13 +279,10 @@ public:
       return false;
     m_need_preprocess = false;
     m_role.swap(role);
-    // vertices that left the ROI go back to their rest positions
-    for(vertex_descriptor v : vertices(m_tm))
-      if(m_moved[index(v)] && m_role[index(v)] == internal::FIXED_VERTEX)
-        put_position(v, m_rest[index(v)], false);
     m_diagonal = region_diagonal();
     return true;
   }
+  /// \endcond
   /// deforms with `iterations()` and `tolerance()`.
   Deformation_result deform() { return deform(m_iterations, m_tolerance); }
   /// deforms with at most `iterations` iterations, stopping when the relative change is at most `tolerance`.
@@ -280,7 +291,7 @@ public:
     if(!(tolerance >= 0))
       return fail(INVALID_PARAMETER, "the tolerance must be non-negative"), m_last;
     if(m_need_preprocess || !check_topology())
-      if(!preprocess())
+      if(!prepare())
         return m_last;
     std::vector<Eigen::Vector3d> p(m_number_of_vertices);
     for(vertex_descriptor v : vertices(m_tm))
@@ -296,6 +307,7 @@ public:
       return m_last;
     for(vertex_descriptor v : m_roi)
       put_position(v, p[index(v)], true);
+    restore_vertices_outside_roi();
     return m_last;
   }
   /// puts the ROI back at its rest positions, the targets of the controls too, and restarts the
@@ -335,6 +347,7 @@ public:
 
   /// \name Access
   /// @{
+
   /// the mesh.
   const Triangle_mesh& triangle_mesh() const { return m_tm; }
   /// the vertex point map.
@@ -374,6 +387,13 @@ private:
     m_last.status = status;
     m_last.message = message;
     return false;
+  }
+  // vertices that left the ROI go back to their rest positions
+  void restore_vertices_outside_roi()
+  {
+    for(vertex_descriptor v : vertices(m_tm))
+      if(m_moved[index(v)] && m_role[index(v)] == internal::FIXED_VERTEX)
+        put_position(v, m_rest[index(v)], false);
   }
   bool check_topology()
   {

@@ -68,7 +68,7 @@ private:
 \ingroup PkgLaplacianDeformationPolicies
 
 \brief The cell of one node, as seen by a transform policy: for each spoke `(a, b)`, the rest
-edge vector `e_ab = x_a - x_b`, the current one `e'_ab`, and the fit weight `c_ab = max(w_ab, 0)`.
+edge vector `e_ab = x_a - x_b`, the current one <code>e'_ab</code>, and the fit weight `c_ab = max(w_ab, 0)`.
 
 A read-only view over the deformer's arrays.
 */
@@ -86,12 +86,12 @@ public:
   std::size_t size() const { return m_size; }
   /// the rest edge vector `e_ab` of spoke `i`.
   const Eigen::Vector3d& rest(std::size_t i) const { return m_rest[i]; }
-  /// the current edge vector `e'_ab` of spoke `i`.
+  /// the current edge vector <code>e'_ab</code> of spoke `i`.
   const Eigen::Vector3d& current(std::size_t i) const { return m_current[i]; }
   /// the non-negative fit weight `c_ab` of spoke `i`.
   double weight(std::size_t i) const { return m_weights[i]; }
 
-  /// `sum_i c_i e'_i e_i^T`, the weighted cross-covariance every rotation fit starts from.
+  /// <code>sum_i c_i e'_i e_i^T</code>, the weighted cross-covariance every rotation fit starts from.
   Eigen::Matrix3d covariance() const
   {
     Eigen::Matrix3d s = Eigen::Matrix3d::Zero();

@@ -22,7 +22,7 @@ the rest cell's own principal axes, rotated by `R_a`.
 
 Let `q_1, q_2, q_3` be the eigenvectors of the rest covariance `sum c_ab e_ab e_ab^T` by
 decreasing eigenvalue (`q_3` approximates the surface normal) and `u_k = R_a q_k`. The two
-tangential scales are the 1-D fits `s_k = sum c (e'.u_k)(f.u_k) / sum c (f.u_k)^2`, `f = R_a e_ab`
+tangential scales are the 1-D fits <code>s_k = sum c (e'.u_k)(f.u_k) / sum c (f.u_k)^2</code>, `f = R_a e_ab`
 (with the same guards as `Scaled_rotation_transform`), and the normal scale is tied to their
 geometric mean `s_3 = sqrt(s_1 s_2)`. Then `T_a = U diag(s) U^T R_a` with `U = [u_1 u_2 u_3]`.
 

@@ -16,7 +16,7 @@ namespace Laplacian_deformation {
 \brief The paper's full `T_a = R2_a S_a R1_a` (equation 8), fitted in the paper's order.
 
 `S_a R1_a` exactly as `Scaled_rotation_transform`; then `R2_a` is the rotation closest to
-mapping `S_a R1_a e_ab` onto `e'_ab` (the SVD of `sum c_ab e'_ab (S_a R1_a e_ab)^T`). The paper
+mapping `S_a R1_a e_ab` onto <code>e'_ab</code> (the SVD of <code>sum c_ab e'_ab (S_a R1_a e_ab)^T</code>). The paper
 drops `R2` ("little effect on the final result"); this policy exists to measure that claim.
 Like `Scaled_rotation_transform`, not invariant under rotations of the whole problem.
 

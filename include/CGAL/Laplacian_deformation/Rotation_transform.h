@@ -15,8 +15,8 @@ namespace Laplacian_deformation {
 
 \brief `T_a = R_a`, the rotation closest to the cell's deformation (Sorkine and Alexa 2007).
 
-`R_a = argmin_R sum c_ab |e'_ab - R e_ab|^2` over proper rotations, from the SVD of
-`sum c_ab e'_ab e_ab^T` with the reflection fix. With this policy the deformer is an
+<code>R_a = argmin_R sum c_ab |e'_ab - R e_ab|^2</code> over proper rotations, from the SVD of
+<code>sum c_ab e'_ab e_ab^T</code> with the reflection fix. With this policy the deformer is an
 as-rigid-as-possible method on the chosen representation. A rigid motion of all constraints is
 a fixed point and, on closed meshes, the limit of the iterations; a uniform scaling is not
 reached (the details keep their rest size). Invariant under rigid motions and uniform scalings

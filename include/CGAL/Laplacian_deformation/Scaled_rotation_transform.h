@@ -17,11 +17,11 @@ namespace Laplacian_deformation {
 world axes.
 
 `R1_a` as in `Rotation_transform`; then, with `f = R1_a e_ab`, for each world axis `c` in
-`{x, y, z}`: `s_c = sum c_ab e'_c f_c / sum c_ab f_c^2`, and `S_a = diag(s_x, s_y, s_z)`.
+`{x, y, z}`: <code>s_c = sum c_ab e'_c f_c / sum c_ab f_c^2</code>, and `S_a = diag(s_x, s_y, s_z)`.
 
 <b>Guards.</b> Where the denominator of an axis is below `1e-6` times `sum c_ab |f|^2` (the cell
 does not extend along that axis, e.g. a flat cell aligned with a world plane), the cell's
-isotropic scale `sum c_ab e'.f / sum c_ab |f|^2` is used for that axis, which keeps uniform
+isotropic scale <code>sum c_ab e'.f / sum c_ab |f|^2</code> is used for that axis, which keeps uniform
 scalings a fixed point (falling back to 1 would break it by about the guard size).
 Every scale factor is clamped to `[1e-2, 1e2]`.
 

@@ -15,7 +15,7 @@ namespace Laplacian_deformation {
 
 \brief `T_a = s_a R_a`: rotation and isotropic scale (beyond the paper).
 
-`R_a` as in `Rotation_transform`, then `s_a = sum c e'.f / sum c |f|^2` with `f = R_a e_ab`,
+`R_a` as in `Rotation_transform`, then <code>s_a = sum c e'.f / sum c |f|^2</code> with `f = R_a e_ab`,
 clamped to `[1e-2, 1e2]`. A rigid motion or a uniform scaling of all constraints is a fixed
 point and the limit of the iterations. Invariant under every similarity of the whole problem.
 

@@ -30,6 +30,7 @@ result says why.
 
 \tparam TriangleMesh a model of `FaceGraph` whose faces are triangles
 \tparam VertexRange a range of `boost::graph_traits<TriangleMesh>::%vertex_descriptor`
+\tparam ControlRange a range of `boost::graph_traits<TriangleMesh>::%vertex_descriptor`
 \tparam PointRange a range of points, as many as `controls`
 
 \cgalNamedParamsBegin
@@ -38,7 +39,7 @@ result says why.
     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
   \cgalParamNEnd
   \cgalParamNBegin{representation}
-    \cgalParamDescription{a model of `DeformationRepresentation` (package parameter `CGAL::Laplacian_deformation::parameters::representation()`)}
+    \cgalParamDescription{a model of `DeformationRepresentation` (package parameter `CGAL::Laplacian_deformation::parameters::representation()`; its type selects the representation)}
     \cgalParamDefault{`Edge_based_representation()`}
   \cgalParamNEnd
   \cgalParamNBegin{weight_policy}

@@ -1,0 +1,66 @@
+/*!
+\ingroup PkgLaplacianDeformationConcepts
+\cgalConcept
+
+@brief A transform policy fits, for one node, the linear map `T_a` that is applied to its rest
+Laplacian coordinate before the next solve.
+
+A Laplacian coordinate `delta_a` is invariant under translations only; when the handles rotate
+or scale a part of the mesh, the rest coordinates must be rotated or scaled too. Each iteration
+of `Mesh_deformer::deform()` therefore (1) fits `T_a` for every node from the change of its cell,
+then (2) solves <code>min sum_a |T_a delta_a - D_a p'|^2</code> for the vertex positions <code>p'</code>. The policy
+is step (1): from the cell's rest edge vectors `e_ab = x_a - x_b`, current edge vectors <code>e'_ab</code>
+and fit weights `c_ab = max(w_ab, 0)` (see `CGAL::Laplacian_deformation::Transform_cell`), it
+returns `T_a`, usually the minimiser of <code>sum_b c_ab |e'_ab - T_a e_ab|^2</code> over some family of
+maps (the paper's equation 7).
+
+The policy is called for every node that carries a row of the system, in parallel when the
+deformer's `ConcurrencyTag` allows it: `transform()` is `const` and must be safe to call
+concurrently. It is default-constructed once per deformer and should be stateless (an instance
+passed to `deform_mesh()` only selects the type). The first iteration after `preprocess()` or
+`reset()` does not call it (it uses `T_a = I`). A returned matrix that is not finite is replaced
+by the identity. The map need not be a rotation, but the fit is to the cell, not to the
+Laplacian energy, so the energy is not guaranteed to decrease from one iteration to the next.
+
+\cgalRefines{DefaultConstructible}
+
+\cgalHasModelsBegin
+\cgalHasModels{CGAL::Laplacian_deformation::Fixed_transform}
+\cgalHasModels{CGAL::Laplacian_deformation::Rotation_transform}
+\cgalHasModels{CGAL::Laplacian_deformation::Similarity_transform}
+\cgalHasModels{CGAL::Laplacian_deformation::Scaled_rotation_transform}
+\cgalHasModels{CGAL::Laplacian_deformation::Principal_scaled_rotation_transform}
+\cgalHasModels{CGAL::Laplacian_deformation::Rotation_scale_rotation_transform}
+\cgalHasModelsEnd
+
+\sa `CGAL::Laplacian_deformation::Transform_cell`
+
+A minimal model: an isotropic scale without rotation, `T_a = s_a I` with
+<code>s_a = sum c e'.e / sum c |e|^2</code> (the least-squares scale of the cell; 1 for a cell without extent).
+\code
+struct Scale_only_transform
+{
+  Eigen::Matrix3d transform(const CGAL::Laplacian_deformation::Transform_cell& cell) const
+  {
+    double num = 0, den = 0;
+    for(std::size_t i = 0; i < cell.size(); ++i)
+    {
+      num += cell.weight(i) * cell.current(i).dot(cell.rest(i));
+      den += cell.weight(i) * cell.rest(i).squaredNorm();
+    }
+    return (den > 0 ? num / den : 1.) * Eigen::Matrix3d::Identity();
+  }
+};
+\endcode
+*/
+class DeformationTransformPolicy
+{
+public:
+/// \name Operations
+/// @{
+
+  /// returns `T_a` for the cell `cell` (rest and current edge vectors, fit weights).
+  Eigen::Matrix3d transform(const CGAL::Laplacian_deformation::Transform_cell& cell) const;
+
+/// @}
+};
