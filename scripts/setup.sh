@@ -8,7 +8,12 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 data_dir=${1:-$here/build/data}
 
 packages=(g++ cmake make libcgal-dev libcgal-demo libeigen3-dev libboost-graph-dev
-          libgtest-dev googletest libbenchmark-dev libsuitesparse-dev libtbb-dev)
+          libgtest-dev googletest libbenchmark-dev libsuitesparse-dev libtbb-dev
+          doxygen                                   # the manual (doc target, built by CI)
+          libopenmesh-dev                           # OpenMesh as a FaceGraph (generic tests)
+          nlohmann-json3-dev libcpp-httplib-dev     # JSON report, laplacian_deform --serve
+          clang libclang-rt-14-dev                  # sanitizers and libFuzzer targets
+          chromium)                                 # headless figures and browser tests
 
 missing=()
 for p in "${packages[@]}"; do
