@@ -54,6 +54,14 @@ struct Deformation_result
   double last_change = 0;
   /// the largest distance between a control vertex and its target (0 for hard constraints).
   double max_constraint_residual = 0;
+  /// wall-clock seconds of the whole call.
+  double seconds = 0;
+  /// `deform()` only: wall-clock seconds spent fitting the transforms (the local step), summed over the iterations.
+  double local_step_seconds = 0;
+  /// `deform()` only: wall-clock seconds spent assembling the right-hand sides, summed over the iterations.
+  double right_hand_side_seconds = 0;
+  /// `deform()` only: wall-clock seconds spent in the back-substitutions, summed over the iterations.
+  double solve_seconds = 0;
 
   /// `true` on success.
   explicit operator bool() const { return status == SUCCESS; }

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <chrono>
 #include <vector>
 
 namespace CGAL {
@@ -262,6 +263,7 @@ public:
   // preprocess() without any write to the mesh
   bool prepare()
   {
+    const auto t0 = std::chrono::steady_clock::now();
     m_last = Deformation_result();
     if(!check_topology())
       return false;
@@ -275,6 +277,7 @@ public:
       role[index(v)] = !m_is_control[index(v)] ? internal::FREE_VERTEX
                        : m_soft ? internal::SOFT_CONTROL_VERTEX : internal::HARD_CONTROL_VERTEX;
     m_last = m_core.preprocess(m_stencils, m_d, m_delta, m_rest_nodes, role, m_soft_weight);
+    m_last.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if(!m_last)
       return false;
     m_need_preprocess = false;
@@ -288,6 +291,7 @@ public:
   /// deforms with at most `iterations` iterations, stopping when the relative change is at most `tolerance`.
   Deformation_result deform(unsigned int iterations, double tolerance)
   {
+    const auto t0 = std::chrono::steady_clock::now();
     if(!(tolerance >= 0))
       return fail(INVALID_PARAMETER, "the tolerance must be non-negative"), m_last;
     if(m_need_preprocess || !check_topology())
@@ -303,11 +307,13 @@ public:
         return fail(NON_FINITE_INPUT, "a target or a current position is not finite"), m_last;
     }
     m_last = m_core.iterate(p, iterations, tolerance, m_diagonal);
-    if(!m_last)
-      return m_last;
-    for(vertex_descriptor v : m_roi)
-      put_position(v, p[index(v)], true);
-    restore_vertices_outside_roi();
+    if(m_last)
+    {
+      for(vertex_descriptor v : m_roi)
+        put_position(v, p[index(v)], true);
+      restore_vertices_outside_roi();
+    }
+    m_last.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return m_last;
   }
   /// puts the ROI back at its rest positions, the targets of the controls too, and restarts the

@@ -12,6 +12,8 @@
 
 #include <CGAL/for_each.h>
 
+#include <chrono>
+
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
@@ -200,13 +202,22 @@ public:
       for(Eigen::Index j = 0; j < nu; ++j)
         current[m_unknowns[std::size_t(j)]] = m_solution.row(j).transpose();
 
+    typedef std::chrono::steady_clock Clock;
+    auto seconds_since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
     for(std::size_t iteration = 0; iteration < iterations; ++iteration)
     {
+      Clock::time_point t0 = Clock::now();
       if(m_has_solution)
         local_step(current);
+      result.local_step_seconds += seconds_since(t0);
+      t0 = Clock::now();
       for(Eigen::Index r = 0; r < nr; ++r)
         b.row(r) = (m_transforms[std::size_t(r)] * m_delta.row(r).transpose()).transpose() - known_part.row(r);
-      if(!m_solver.solve(b, x))
+      result.right_hand_side_seconds += seconds_since(t0);
+      t0 = Clock::now();
+      const bool solved = m_solver.solve(b, x);
+      result.solve_seconds += seconds_since(t0);
+      if(!solved)
       {
         result.status = m_solver.info() == m_solver.NOT_FINITE ? NON_FINITE_RESULT : SOLVE_FAILED;
         result.message = result.status == NON_FINITE_RESULT ? "the solution is not finite; nothing was written"
