@@ -13,15 +13,18 @@
 #include <CGAL/Laplacian_deformation/Rotation_transform.h>
 #include <CGAL/Laplacian_deformation/Scaled_rotation_transform.h>
 #include <CGAL/Laplacian_deformation/Similarity_transform.h>
+#include <CGAL/Laplacian_deformation/internal/closest_rotation_3.h>
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <iostream>
 #include <limits>
 #include <random>
 #include <string>
@@ -635,3 +638,54 @@ TEST(TransformPolicies, RotationScaleRotationFitsAtLeastAsWellAsScaledRotation)
 }
 
 } // namespace
+
+// The fast closest rotation (Jacobi eigenvectors of S^T S) agrees with the SVD reference on
+// general, rank-2 (flat cells), rank-1, reflected, symmetric and repeated-singular-value matrices.
+TEST(TransformPolicies, FastClosestRotationMatchesSvd)
+{
+  using LD::internal::closest_rotation;
+  using LD::internal::closest_rotation_svd;
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto random_matrix = [&] {
+    Eigen::Matrix3d m;
+    for(int i = 0; i < 9; ++i)
+      m(i / 3, i % 3) = u(rng);
+    return m;
+  };
+  std::vector<Eigen::Matrix3d> cases;
+  for(int k = 0; k < 2000; ++k)
+  {
+    const Eigen::Matrix3d m = random_matrix();
+    cases.push_back(m);                                                    // general
+    const Eigen::Vector3d a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+    cases.push_back(a * b.transpose() + c * a.cross(b).cross(c).transpose());   // rank 2
+    cases.push_back(m * Eigen::Vector3d(1, 1, 0).asDiagonal() * random_matrix()); // rank 2
+    cases.push_back(m * Eigen::Vector3d(1, 1, -1).asDiagonal());                 // reflection
+    cases.push_back(m + m.transpose());                                          // symmetric
+    const Eigen::Matrix3d q = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    cases.push_back(q * Eigen::Vector3d(2, 2, 0.5 + u(rng) * 0.4).asDiagonal()); // repeated sigma
+    cases.push_back(q * Eigen::Vector3d(0.3, 1e-12, 1e-12).asDiagonal());        // rank ~1
+    cases.push_back(1e-30 * m);
+    cases.push_back(1e30 * m);
+  }
+  cases.push_back(Eigen::Matrix3d::Zero());
+  cases.push_back(Eigen::Matrix3d::Identity());
+  cases.push_back(-Eigen::Matrix3d::Identity());
+  double worst = 0;
+  for(const Eigen::Matrix3d& s : cases)
+  {
+    const Eigen::Matrix3d r = closest_rotation(s), ref = closest_rotation_svd(s);
+    ASSERT_NEAR((r.transpose() * r - Eigen::Matrix3d::Identity()).norm(), 0., 1e-13);
+    ASSERT_NEAR(r.determinant(), 1., 1e-13);
+    // where the SVD's answer is unique (distinct two largest directions), both must agree
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(s);
+    const Eigen::Vector3d sigma = svd.singularValues();
+    if(sigma(1) > 1e-2 * sigma(0) && sigma(1) - sigma(2) > 1e-3 * sigma(0))
+      worst = (std::max)(worst, (r - ref).norm());
+    // optimality: trace(R^T S) at least the reference's (up to round-off)
+    EXPECT_GE((r.transpose() * s).trace(), (ref.transpose() * s).trace() - 1e-12 * s.norm());
+  }
+  std::cout << "[measured] fast vs SVD closest rotation, worst Frobenius difference " << worst << "\n";
+  EXPECT_LE(worst, 1e-11);
+}

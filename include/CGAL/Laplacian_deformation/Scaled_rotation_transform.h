@@ -39,7 +39,7 @@ struct Scaled_rotation_transform
   Eigen::Matrix3d transform(const Transform_cell& cell) const
   {
     const Eigen::Matrix3d r = internal::closest_rotation(cell.covariance());
-    return internal::Scale_fit::along_axes(cell, r, Eigen::Matrix3d::Identity()).asDiagonal() * r;
+    return internal::Scale_fit::along_world_axes(cell, r).asDiagonal() * r;
   }
 };
 

@@ -10,7 +10,12 @@
 #include <CGAL/Laplacian_deformation/Node_cell.h>
 #include <CGAL/Laplacian_deformation/internal/Laplacian_stencils.h>
 
-#include <CGAL/for_each.h>
+#include <CGAL/tags.h>
+
+#ifdef CGAL_LINKED_WITH_TBB
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#endif
 
 #include <chrono>
 
@@ -21,6 +26,7 @@
 #include <cmath>
 #include <numeric>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace CGAL {
@@ -169,8 +175,19 @@ public:
       m_spoke_start.push_back(m_rest_edges.size());
     }
     m_current_edges.assign(m_rest_edges.size(), Eigen::Vector3d::Zero());
-    m_row_ids.resize(m_rows.size());
-    std::iota(m_row_ids.begin(), m_row_ids.end(), std::size_t(0));
+    // the nodes the local step evaluates: the rows and their neighbours, each once
+    std::vector<char> needed(s.number_of_nodes, 0);
+    for(std::size_t a : m_rows)
+    {
+      needed[a] = 1;
+      for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
+        needed[s.neighbor[k]] = 1;
+    }
+    m_needed_nodes.clear();
+    for(std::size_t a = 0; a < s.number_of_nodes; ++a)
+      if(needed[a])
+        m_needed_nodes.push_back(a);
+    m_node_positions.assign(s.number_of_nodes, Eigen::Vector3d::Zero());
     m_transforms.assign(m_rows.size(), Eigen::Matrix3d::Identity());
     m_has_solution = false;
     m_ready = true;
@@ -284,26 +301,47 @@ private:
     std::vector<std::size_t> parent;
   };
 
-  // fits T_a for every row node, in parallel when ConcurrencyTag allows it
+  // f(begin, end) over [0, n) in blocks, in parallel when ConcurrencyTag and TBB allow it
+  template <class F>
+  static void for_each_block(std::size_t n, const F& f)
+  {
+#ifdef CGAL_LINKED_WITH_TBB
+    if(std::is_convertible<ConcurrencyTag, CGAL::Parallel_tag>::value)
+    {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256),
+                        [&f](const tbb::blocked_range<std::size_t>& range) { f(range.begin(), range.end()); });
+      return;
+    }
+#endif
+    f(std::size_t(0), n);
+  }
+
+  // fits T_a for every row node, in parallel when ConcurrencyTag allows it; allocation-free
   void local_step(const std::vector<Eigen::Vector3d>& p)
   {
     const Laplacian_stencils& s = *m_stencils;
-    auto node = [&](std::size_t a) {
-      Eigen::Vector3d x = Eigen::Vector3d::Zero();
-      for(std::size_t k = s.combination_start[a]; k < s.combination_start[a + 1]; ++k)
-        x += s.combination_coefficient[k] * p[s.combination_vertex[k]];
-      return x;
-    };
-    CGAL::for_each<ConcurrencyTag>(m_row_ids, [&](std::size_t r) -> bool {
-      const std::size_t a = m_rows[r], first = m_spoke_start[r];
-      const Eigen::Vector3d xa = node(a);
-      for(std::size_t k = s.neighbor_start[a], i = first; k < s.neighbor_start[a + 1]; ++k, ++i)
-        m_current_edges[i] = xa - node(s.neighbor[k]);
-      const Transform_cell cell(m_rest_edges.data() + first, m_current_edges.data() + first,
-                                m_fit_weights.data() + first, m_spoke_start[r + 1] - first);
-      const Eigen::Matrix3d t = m_policy.transform(cell);
-      m_transforms[r] = t.allFinite() ? t : Eigen::Matrix3d::Identity();
-      return true;
+    for_each_block(m_needed_nodes.size(), [&](std::size_t begin, std::size_t end) {
+      for(std::size_t i = begin; i < end; ++i)
+      {
+        const std::size_t a = m_needed_nodes[i];
+        Eigen::Vector3d x = Eigen::Vector3d::Zero();
+        for(std::size_t k = s.combination_start[a]; k < s.combination_start[a + 1]; ++k)
+          x += s.combination_coefficient[k] * p[s.combination_vertex[k]];
+        m_node_positions[a] = x;
+      }
+    });
+    for_each_block(m_rows.size(), [&](std::size_t begin, std::size_t end) {
+      for(std::size_t r = begin; r < end; ++r)
+      {
+        const std::size_t a = m_rows[r], first = m_spoke_start[r];
+        const Eigen::Vector3d& xa = m_node_positions[a];
+        for(std::size_t k = s.neighbor_start[a], i = first; k < s.neighbor_start[a + 1]; ++k, ++i)
+          m_current_edges[i] = xa - m_node_positions[s.neighbor[k]];
+        const Transform_cell cell(m_rest_edges.data() + first, m_current_edges.data() + first,
+                                  m_fit_weights.data() + first, m_spoke_start[r + 1] - first);
+        const Eigen::Matrix3d t = m_policy.transform(cell);
+        m_transforms[r] = t.allFinite() ? t : Eigen::Matrix3d::Identity();
+      }
     });
   }
 
@@ -311,11 +349,11 @@ private:
   TransformPolicy m_policy;
   Least_squares_solver<SolverTraits> m_solver;
   std::vector<long> m_unknown_index;
-  std::vector<std::size_t> m_unknowns, m_rows, m_row_ids, m_soft, m_spoke_start;
+  std::vector<std::size_t> m_unknowns, m_rows, m_needed_nodes, m_soft, m_spoke_start;
   Eigen::SparseMatrix<double> m_a, m_known;
   double m_lambda = 0;
   Eigen::MatrixX3d m_delta, m_solution;
-  std::vector<Eigen::Vector3d> m_rest_edges, m_current_edges;
+  std::vector<Eigen::Vector3d> m_rest_edges, m_current_edges, m_node_positions;
   std::vector<double> m_fit_weights;
   std::vector<Eigen::Matrix3d> m_transforms;
   bool m_has_solution = false;

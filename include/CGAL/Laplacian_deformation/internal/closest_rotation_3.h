@@ -11,6 +11,8 @@
 #include <Eigen/SVD>
 
 #include <algorithm>
+#include <cmath>
+#include <utility>
 
 namespace CGAL {
 namespace Laplacian_deformation {
@@ -19,8 +21,8 @@ namespace internal {
 // argmax_R trace(R^T S) over proper rotations, S = sum c e' e^T (Sorkine and Alexa 2007):
 // R = U V^T from the SVD S = U Sigma V^T, with the sign of the column of U of the smallest
 // singular value flipped when det(U V^T) < 0. Eigen's JacobiSVD sorts singular values in
-// decreasing order, so that column is the last one.
-inline Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& s)
+// decreasing order, so that column is the last one. The reference (and fallback) computation.
+inline Eigen::Matrix3d closest_rotation_svd(const Eigen::Matrix3d& s)
 {
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(s, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d u = svd.matrixU();
@@ -28,6 +30,80 @@ inline Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& s)
   if((u * v.transpose()).determinant() < 0)
     u.col(2) = -u.col(2);
   return u * v.transpose();
+}
+
+// Eigen-decomposition of the symmetric 3x3 matrix `a` by cyclic Jacobi rotations (the
+// Numerical Recipes update): on return `a` is diagonal to round-off and a_in = v a v^T,
+// `v` orthogonal. Allocation-free, a few hundred flops (3 or 4 sweeps in practice).
+inline void symmetric_eigen_jacobi_3(Eigen::Matrix3d& a, Eigen::Matrix3d& v)
+{
+  v.setIdentity();
+  for(int sweep = 0; sweep < 24; ++sweep)
+  {
+    const double off = a(0, 1) * a(0, 1) + a(0, 2) * a(0, 2) + a(1, 2) * a(1, 2);
+    const double diag = a(0, 0) * a(0, 0) + a(1, 1) * a(1, 1) + a(2, 2) * a(2, 2);
+    if(!(off > 1e-40 * diag))              // also stops on a zero matrix and on NaN
+      return;
+    for(int k = 0; k < 3; ++k)
+    {
+      const int p = (k == 2) ? 1 : 0, q = (k == 0) ? 1 : 2;   // (0,1), (0,2), (1,2)
+      const double apq = a(p, q);
+      if(apq == 0)
+        continue;
+      const double theta = (a(q, q) - a(p, p)) / (2 * apq);
+      double t = std::abs(theta) > 1e150 ? 0.5 / std::abs(theta)
+                                          : 1. / (std::abs(theta) + std::sqrt(theta * theta + 1.));
+      if(theta < 0)
+        t = -t;
+      const double c = 1. / std::sqrt(t * t + 1.), sn = t * c, tau = sn / (1. + c), h = t * apq;
+      a(p, p) -= h;
+      a(q, q) += h;
+      a(p, q) = a(q, p) = 0;
+      const int r = 3 - p - q;
+      const double g = a(r, p), hh = a(r, q);
+      a(r, p) = a(p, r) = g - sn * (hh + g * tau);
+      a(r, q) = a(q, r) = hh + sn * (g - hh * tau);
+      for(int j = 0; j < 3; ++j)
+      {
+        const double vg = v(j, p), vh = v(j, q);
+        v(j, p) = vg - sn * (vh + vg * tau);
+        v(j, q) = vh + sn * (vg - vh * tau);
+      }
+    }
+  }
+}
+
+// The same rotation as closest_rotation_svd(), computed from the eigenvectors v1, v2 of S^T S
+// (two largest eigenvalues): u1 = S v1 / |S v1|, u2 = the part of S v2 orthogonal to u1,
+// normalised, u3 = u1 x u2, v3 = v1 x v2, R = U V^T (a proper rotation by construction; the
+// sign flip of the smallest singular direction is the u3 = u1 x u2 choice). Squaring S costs
+// accuracy in the second direction by (sigma1 / sigma2)^2, so cells whose second singular value
+// is below 1e-2 of the first (nearly collinear cells, rare) and non-finite input go to the SVD:
+// the result then agrees with closest_rotation_svd() to about 1e4 x machine epsilon.
+inline Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& s)
+{
+  Eigen::Matrix3d a = s.transpose() * s, v;
+  symmetric_eigen_jacobi_3(a, v);
+  int i0 = 0, i1 = 1, i2 = 2;
+  if(a(i0, i0) < a(i1, i1)) std::swap(i0, i1);
+  if(a(i1, i1) < a(i2, i2)) std::swap(i1, i2);
+  if(a(i0, i0) < a(i1, i1)) std::swap(i0, i1);
+  const Eigen::Vector3d v1 = v.col(i0), v2 = v.col(i1);
+  const Eigen::Vector3d b1 = s * v1;
+  const double n1 = b1.norm();
+  if(n1 == 0)
+    return Eigen::Matrix3d::Identity();    // no information: what the SVD gives for S = 0
+  const Eigen::Vector3d u1 = b1 / n1;
+  Eigen::Vector3d b2 = s * v2;
+  b2 -= u1.dot(b2) * u1;
+  const double n2 = b2.norm();
+  if(!(n2 > 1e-2 * n1) || !std::isfinite(n1))
+    return closest_rotation_svd(s);
+  const Eigen::Vector3d u2 = b2 / n2;
+  Eigen::Matrix3d u, w;
+  u << u1, u2, u1.cross(u2);
+  w << v1, v2, v1.cross(v2);
+  return u * w.transpose();
 }
 
 // Scale factors used by the scaled policies, each the 1-D least-squares fit
@@ -59,13 +135,25 @@ struct Scale_fit
   static Eigen::Vector3d along_axes(const Transform_cell& cell, const Eigen::Matrix3d& m,
                                     const Eigen::Matrix3d& axes)
   {
+    return fit(cell, m, [&axes](const Eigen::Vector3d& x) -> Eigen::Vector3d { return axes.transpose() * x; });
+  }
+  // along_axes(cell, m, I), without the projections
+  static Eigen::Vector3d along_world_axes(const Transform_cell& cell, const Eigen::Matrix3d& m)
+  {
+    return fit(cell, m, [](const Eigen::Vector3d& x) -> const Eigen::Vector3d& { return x; });
+  }
+
+private:
+  template <class Project>
+  static Eigen::Vector3d fit(const Transform_cell& cell, const Eigen::Matrix3d& m, const Project& project)
+  {
     Eigen::Vector3d num = Eigen::Vector3d::Zero(), den = Eigen::Vector3d::Zero();
     double total = 0, iso_num = 0;
     for(std::size_t i = 0; i < cell.size(); ++i)
     {
       const Eigen::Vector3d f = m * cell.rest(i);
-      const Eigen::Vector3d fa = axes.transpose() * f;
-      const Eigen::Vector3d ea = axes.transpose() * cell.current(i);
+      const Eigen::Vector3d fa = project(f);
+      const Eigen::Vector3d ea = project(cell.current(i));
       const double c = cell.weight(i);
       num += c * ea.cwiseProduct(fa);
       den += c * fa.cwiseProduct(fa);
