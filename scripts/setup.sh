@@ -9,6 +9,7 @@ data_dir=${1:-$here/build/data}
 
 packages=(g++ cmake make libcgal-dev libcgal-demo libeigen3-dev libboost-graph-dev
           libgtest-dev googletest libbenchmark-dev libsuitesparse-dev libtbb-dev
+          libopenblas0-pthread                      # optimised BLAS for CHOLMOD's supernodal Cholesky
           doxygen                                   # the manual (doc target, built by CI)
           libopenmesh-dev                           # OpenMesh as a FaceGraph (generic tests)
           nlohmann-json3-dev libcpp-httplib-dev     # JSON report, laplacian_deform --serve

@@ -7,6 +7,9 @@
 
 #include <CGAL/Default.h>
 #include <CGAL/Eigen_solver_traits.h>
+#ifdef CGAL_LAPLACIAN_DEFORMATION_USE_CHOLMOD
+#include <CGAL/Laplacian_deformation/Cholmod_solver_traits.h>
+#endif
 
 #include <Eigen/Core>
 #include <Eigen/SparseCholesky>
@@ -22,11 +25,28 @@ namespace Laplacian_deformation {
 
 /*!
 \ingroup PkgLaplacianDeformationSolver
-\brief The default solver traits: Eigen's simplicial sparse Cholesky (`Eigen::SimplicialLLT`,
-AMD ordering) wrapped in CGAL's `Eigen_solver_traits`.
+\brief \eigen's simplicial sparse Cholesky (`Eigen::SimplicialLLT`, AMD ordering) wrapped in
+\cgal's `Eigen_solver_traits`: the default solver traits when CHOLMOD is not available.
 */
 typedef CGAL::Eigen_solver_traits<Eigen::SimplicialLLT<Eigen::SparseMatrix<double>>>
-    Default_solver_traits;
+    Eigen_simplicial_solver_traits;
+
+#if defined(CGAL_LAPLACIAN_DEFORMATION_USE_CHOLMOD) || defined(DOXYGEN_RUNNING)
+/*!
+\ingroup PkgLaplacianDeformationSolver
+\brief The default solver traits: `Cholmod_solver_traits` (SuiteSparse's supernodal CHOLMOD, with
+its own choice of fill-reducing ordering) when the macro `CGAL_LAPLACIAN_DEFORMATION_USE_CHOLMOD`
+is defined, `Eigen_simplicial_solver_traits` otherwise.
+
+The CMake target `CGAL::Laplacian_deformation` defines the macro and links CHOLMOD when SuiteSparse
+is found (CMake option `LAPLACIAN_DEFORMATION_USE_CHOLMOD`, on by default). With an optimised
+BLAS, CHOLMOD's block solve of the three columns is faster than `Eigen::SimplicialLLT`'s
+(see `benchmark/RESULTS.md`).
+*/
+typedef Cholmod_solver_traits Default_solver_traits;
+#else
+typedef Eigen_simplicial_solver_traits Default_solver_traits;
+#endif
 
 /*!
 \ingroup PkgLaplacianDeformationSolver
