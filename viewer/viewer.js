@@ -1,0 +1,145 @@
+// The result-folder viewer: one panel per entry of task.json's "panels", one shared camera,
+// vertex colours from the distortion field over ONE range shared by every panel, one colour bar.
+//
+// URL parameters: task=<folder> (default: the first task), colormap=viridis|heat,
+// range=lo,hi (either may be empty: that end stays the shared min/max),
+// figure=1 (fixed-size figure, no toolbar: what render.mjs captures) with w=<panel width> and
+// h=<panel height> in CSS pixels (without h, the height follows the objects' shape).
+// When the page is done, window.viewerState.status is 'rendered' (or 'error', with .error).
+import { parsePLY } from './lib/ply.js';
+import { COLORMAPS, sharedRange, drawColorBar } from './lib/colormap.js';
+import { createFieldMesh } from './lib/mesh.js';
+import { PanelView } from './lib/panels.js';
+
+const DEFAULT_PANELS = ['rest', 'vertex', 'edge', 'cgal_arap'];
+const PANEL_TITLES = {
+  rest: 'Rest', vertex: 'Vertex-based', edge: 'Edge-based',
+  cgal_arap: 'CGAL ARAP', cgal_spokes_and_rims: 'CGAL spokes and rims', cgal_sre_arap: 'CGAL SR-ARAP',
+};
+
+const state = window.viewerState = { status: 'loading', error: null, task: null, range: null, panels: [] };
+const params = new URLSearchParams(location.search);
+const figureMode = params.get('figure') === '1';
+const $ = (id) => document.getElementById(id);
+
+function fail(message) {
+  state.status = 'error';
+  state.error = message;
+  $('message').textContent = message;
+  document.body.dataset.status = 'error';
+  console.error(message);
+}
+
+async function fetchOk(url, what) {
+  const response = await fetch(url, { cache: 'no-store' });
+  if(!response.ok) throw new Error(`${what}: HTTP ${response.status} ${response.statusText}`);
+  return response;
+}
+
+/** The folder part of a URL under results/ ('.' is the result folder itself). */
+function folderUrl(dir) {
+  return dir === '.' ? 'results/' : 'results/' + dir.split('/').map(encodeURIComponent).join('/') + '/';
+}
+
+function positiveNumber(name, fallback) {
+  const value = Number(params.get(name));
+  return Number.isFinite(value) && value > 0 ? value : fallback;
+}
+
+async function main() {
+  const tasks = await (await fetchOk('tasks.json', 'the task list')).json();
+  if(tasks.length === 0) throw new Error('the result folder holds no task.json (neither at its top nor in a sub-folder)');
+  const dir = params.get('task') || tasks[0].dir;
+  const entry = tasks.find((t) => t.dir === dir);
+  if(!entry) throw new Error(`no task folder '${dir}' (have: ${tasks.map((t) => t.dir).join(', ')})`);
+  if(entry.error) throw new Error(`${dir}/task.json: ${entry.error}`);
+
+  const base = folderUrl(dir);
+  const task = await (await fetchOk(base + 'task.json', `${dir}/task.json`)).json();
+  const panelNames = Array.isArray(task.panels) && task.panels.length > 0 ? task.panels : DEFAULT_PANELS;
+  const fieldName = task.property || 'distortion';
+  const colormap = params.get('colormap') || task.colormap || 'viridis';
+  if(!COLORMAPS[colormap]) throw new Error(`unknown colour map '${colormap}' (known: ${Object.keys(COLORMAPS).join(', ')})`);
+  state.task = task.task || dir;
+
+  // Toolbar (interactive mode).
+  const select = $('task');
+  for(const t of tasks) select.add(new Option(t.title ? `${t.task} - ${t.title}` : t.task, t.dir, false, t.dir === dir));
+  select.onchange = () => { params.set('task', select.value); location.search = params.toString(); };
+  const cmapSelect = $('colormap');
+  for(const name of Object.keys(COLORMAPS)) cmapSelect.add(new Option(name, name, false, name === colormap));
+  cmapSelect.onchange = () => { params.set('colormap', cmapSelect.value); location.search = params.toString(); };
+
+  // Meshes.
+  const meshes = await Promise.all(panelNames.map(async (name) => {
+    const file = `${dir}/${name}.ply`;
+    const bytes = await (await fetchOk(base + encodeURIComponent(name) + '.ply', file)).arrayBuffer();
+    let mesh;
+    try { mesh = parsePLY(bytes); } catch(e) { throw new Error(`${file}: ${e.message}`); }
+    const field = mesh.vertexProperties[fieldName];
+    if(!field)
+      throw new Error(`${file} has no vertex property '${fieldName}' (it has: ${Object.keys(mesh.vertexProperties).join(', ') || 'none'})`);
+    if(mesh.indices.length === 0) throw new Error(`${file} has no faces`);
+    return { name, file, ...mesh, field };
+  }));
+
+  let range = null;
+  if(params.has('range')) range = params.get('range').split(',').map((s) => (s.trim() === '' ? null : Number(s)));
+  else if(Array.isArray(task.range)) range = task.range;
+  const shared = sharedRange(meshes.map((m) => m.field), range);
+  const data = sharedRange(meshes.map((m) => m.field));
+  state.range = shared;
+  state.panels = meshes.map((m) => {
+    const own = sharedRange([m.field]);
+    return { name: m.name, vertices: m.vertexCount, faces: m.indices.length / 3, min: own.min, max: own.max };
+  });
+
+  // Layout: fixed panel size in figure mode, the window otherwise.
+  const w = positiveNumber('w', 400);
+  if(figureMode) {
+    document.body.classList.add('figure');
+    $('figure').style.width = `${w * meshes.length}px`;
+    $('panels').style.height = `${positiveNumber('h', w)}px`;
+  }
+  $('figure-title').textContent = task.title || task.task || dir;
+  document.title = `${task.task || dir} - Laplacian_deformation viewer`;
+
+  const letters = 'abcdefghijklmnopqrstuvwxyz';
+  const titles = task.panel_titles || {};
+  const view = new PanelView($('panels'), { interactive: !figureMode, preserveDrawingBuffer: figureMode });
+  view.setPanels(meshes.map((m, i) => ({
+    title: `(${letters[i % 26]}) ${titles[m.name] || PANEL_TITLES[m.name] || m.name}`,
+    object: createFieldMesh(m, shared, colormap, { flatShading: Boolean(task.flat_shading) }),
+  })));
+  view.resize();
+  const camera = task.camera || {};
+  if(figureMode && !params.has('h')) {
+    // Panel height from the objects' shape seen along the view (between w/3 and 2w), plus captions.
+    const aspect = view.contentAspect({ direction: camera.direction || null, up: camera.up || null });
+    const caption = view.panels[0].element.offsetHeight - view.panels[0].port.offsetHeight;
+    $('panels').style.height = `${Math.round(Math.min(2 * w, Math.max(w / 3, 1.08 * w / aspect)) + caption)}px`;
+    view.resize();
+  }
+  view.fitCamera({ direction: camera.direction || null, up: camera.up || null, margin: camera.margin || 1.06 });
+
+  drawColorBar($('colorbar'), {
+    min: shared.min, max: shared.max, colormap, label: task.field || fieldName,
+    clippedMax: shared.max < data.max, clippedMin: shared.min > data.min,
+  });
+  $('info').textContent = meshes.map((m) => `${m.name}: ${m.vertexCount} vertices`).join(' | ') +
+    ' - drag: turn, wheel: zoom, right drag: pan';
+  $('reset').onclick = () => view.resetView();
+  window.addEventListener('keydown', (e) => { if(e.key === 'r' || e.key === 'R') view.resetView(); });
+  state.view = view;
+
+  // Rendered: after the first render, once the frame has been presented.
+  await new Promise((resolve) => {
+    view.onRender(() => resolve());
+    view.requestRender();
+  });
+  await new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve)));
+  state.status = 'rendered';
+  document.body.dataset.status = 'rendered';
+}
+
+main().catch((e) => fail(e && e.message ? e.message : String(e)));
