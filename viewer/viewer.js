@@ -7,7 +7,7 @@
 // h=<panel height> in CSS pixels (without h, the height follows the objects' shape).
 // When the page is done, window.viewerState.status is 'rendered' (or 'error', with .error).
 import { parsePLY } from './lib/ply.js';
-import { COLORMAPS, sharedRange, drawColorBar } from './lib/colormap.js';
+import { COLORMAPS, sharedRange, fieldExtent, drawColorBar } from './lib/colormap.js';
 import { createFieldMesh } from './lib/mesh.js';
 import { PanelView } from './lib/panels.js';
 
@@ -90,7 +90,7 @@ async function main() {
   const data = sharedRange(meshes.map((m) => m.field));
   state.range = shared;
   state.panels = meshes.map((m) => {
-    const own = sharedRange([m.field]);
+    const own = fieldExtent(m.field) || { min: null, max: null };
     return { name: m.name, vertices: m.vertexCount, faces: m.indices.length / 3, min: own.min, max: own.max };
   });
 

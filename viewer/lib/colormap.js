@@ -27,6 +27,16 @@ export function sampleColormap(name, t) {
   return [0, 1, 2].map((k) => points[i][k] * (1 - f) + points[i + 1][k] * f);
 }
 
+/** { min, max } of the finite values of a field, or null when it has none. */
+export function fieldExtent(field) {
+  let min = Infinity, max = -Infinity;
+  for(let i = 0; i < field.length; ++i) {
+    const v = field[i];
+    if(Number.isFinite(v)) { if(v < min) min = v; if(v > max) max = v; }
+  }
+  return min <= max ? { min, max } : null;
+}
+
 /**
  * The shared range of several fields (arrays of numbers): { min, max } over every finite value.
  * An empty or constant field set gives a range of width 1 starting at the value (or 0), so a
@@ -34,11 +44,10 @@ export function sampleColormap(name, t) {
  */
 export function sharedRange(fields, range = null) {
   let min = Infinity, max = -Infinity;
-  for(const field of fields)
-    for(let i = 0; i < field.length; ++i) {
-      const v = field[i];
-      if(Number.isFinite(v)) { if(v < min) min = v; if(v > max) max = v; }
-    }
+  for(const field of fields) {
+    const e = fieldExtent(field);
+    if(e) { min = Math.min(min, e.min); max = Math.max(max, e.max); }
+  }
   if(range && range[0] != null) min = Number(range[0]);
   if(range && range[1] != null) max = Number(range[1]);
   if(!Number.isFinite(min)) min = 0;

@@ -10,7 +10,7 @@ import http from 'node:http';
 import { spawnSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
 import { parsePLY, writePLY, PlyError } from '../lib/ply.js';
-import { sampleColormap, sharedRange, niceTicks, formatValue, fieldColors, COLORMAPS } from '../lib/colormap.js';
+import { sampleColormap, sharedRange, fieldExtent, niceTicks, formatValue, fieldColors, COLORMAPS } from '../lib/colormap.js';
 import { createFieldMesh, setFieldColors, setPositions, defaultView } from '../lib/mesh.js';
 import { startServer, resolveInside, listTasks } from '../serve.mjs';
 import { writeSampleTask, edgeLengthDistortion, bumpyPlane } from '../tools/make_sample.mjs';
@@ -83,6 +83,8 @@ test('colour maps: ends, clamping, NaN; shared range; ticks', () => {
   assert.throws(() => sampleColormap('jet', 0.5), /unknown colour map 'jet'/);
   assert.deepEqual(sharedRange([[0, 0], [0.5, NaN, 2], [Infinity, 1]]), { min: 0, max: 2 });
   assert.deepEqual(sharedRange([[3, 3]]), { min: 3, max: 4 });
+  assert.deepEqual(fieldExtent([NaN, 2, -1]), { min: -1, max: 2 });
+  assert.equal(fieldExtent([NaN]), null);
   assert.deepEqual(sharedRange([[0, 5]], [null, 2]), { min: 0, max: 2 });
   assert.deepEqual(niceTicks(0, 0.691, 5), [0, 0.2, 0.4, 0.6]);
   assert.deepEqual(niceTicks(-1, 1, 5), [-1, -0.5, 0, 0.5, 1]);

@@ -65,7 +65,7 @@ export function writeSampleTask(outDir, { task = 'bumpy_plane', n = 32, panels =
   const shapes = {
     rest: plane.positions,
     vertex: lift(plane, 0.6, 0.35, 0.15),
-    edge: lift(plane, 0.6, 0.5, 0.1),
+    edge: lift(plane, 0.6, 0.65, 0.05),
     cgal_arap: lift(plane, 0.6, 0.42, 0.12),
   };
   const folder = path.join(outDir, task);
