@@ -25,9 +25,11 @@ function pngName(task) {
 }
 
 /**
- * Renders the tasks of `resultsDir` into `outDir`. Resolves to [{ task, png, ok, error, range,
- * panels, layout }] (range: the shared { min, max }; panels: per panel name, vertices, faces, min,
- * max; layout: figure, ports and colorbar boxes in CSS pixels -- times `scale` in the PNG).
+ * Renders the tasks of `resultsDir` into `outDir`. Resolves to [{ task, png, ok, error, warnings,
+ * range, panels, layout }]: warnings lists the panels without a file (drawn empty, marked "no
+ * result"); range is the shared { min, max }; panels gives per panel its name, vertices, faces,
+ * min, max (or missing); layout has the figure, ports and colorbar boxes in CSS pixels (times
+ * `scale` in the PNG).
  * Options: tasks (folder names; default all), width, height (panel size), scale, colormap,
  * executablePath (default /usr/bin/chromium), timeoutMs (per task), log (a function).
  */
@@ -59,7 +61,7 @@ export async function renderFigures(resultsDir, outDir, { tasks: only = null, wi
     });
     for(const task of tasks) {
       const png = path.join(outDir, pngName(task));
-      const result = { task: task.dir, png, ok: false, error: null, range: null };
+      const result = { task: task.dir, png, ok: false, error: null, warnings: [], range: null };
       results.push(result);
       if(task.error) { result.error = task.error; log(`${task.dir}: ${task.error}`); continue; }
       const panels = task.panels && task.panels.length ? task.panels.length : 4;
@@ -82,13 +84,15 @@ export async function renderFigures(resultsDir, outDir, { tasks: only = null, wi
           const box = (e) => { const r = e.getBoundingClientRect();
                                return { x: r.left - origin.left, y: r.top - origin.top, width: r.width, height: r.height }; };
           const s = window.viewerState;
-          return { status: s.status, error: s.error, range: s.range, panels: s.panels,
+          return { status: s.status, error: s.error, warnings: s.warnings, range: s.range, panels: s.panels,
                    layout: s.status === 'rendered' ? { figure: box(document.getElementById('figure')),
                      ports: s.view.panels.map((p) => box(p.port)), colorbar: box(document.getElementById('colorbar')) } : null };
         });
         if(state.status !== 'rendered') throw new Error(state.error || 'the page did not render');
         await page.locator('#figure').screenshot({ path: png, timeout: timeoutMs });
         result.ok = true;
+        result.warnings = state.warnings;
+        for(const w of state.warnings) log(`${task.dir}: warning: ${w} (panel left empty)`);
         result.range = state.range;
         result.panels = state.panels;
         result.layout = state.layout;

@@ -5,11 +5,13 @@
 // range=lo,hi (either may be empty: that end stays the shared min/max),
 // figure=1 (fixed-size figure, no toolbar: what render.mjs captures) with w=<panel width> and
 // h=<panel height> in CSS pixels (without h, the height follows the objects' shape).
-// When the page is done, window.viewerState.status is 'rendered' (or 'error', with .error).
+// When the page is done, window.viewerState.status is 'rendered' (or 'error', with .error);
+// .warnings lists the panels without a file (shown empty, marked "no result").
 import { parsePLY } from './lib/ply.js';
-import { COLORMAPS, sharedRange, fieldExtent, drawColorBar } from './lib/colormap.js';
+import { COLORMAPS, sharedRange, fieldExtent, drawColorBar, formatValue } from './lib/colormap.js';
 import { createFieldMesh } from './lib/mesh.js';
 import { PanelView } from './lib/panels.js';
+import * as THREE from 'three';
 
 const DEFAULT_PANELS = ['rest', 'vertex', 'edge', 'cgal_arap'];
 const PANEL_TITLES = {
@@ -17,7 +19,7 @@ const PANEL_TITLES = {
   cgal_arap: 'CGAL ARAP', cgal_spokes_and_rims: 'CGAL spokes and rims', cgal_sre_arap: 'CGAL SR-ARAP',
 };
 
-const state = window.viewerState = { status: 'loading', error: null, task: null, range: null, panels: [] };
+const state = window.viewerState = { status: 'loading', error: null, warnings: [], task: null, range: null, panels: [] };
 const params = new URLSearchParams(location.search);
 const figureMode = params.get('figure') === '1';
 const $ = (id) => document.getElementById(id);
@@ -70,10 +72,14 @@ async function main() {
   for(const name of Object.keys(COLORMAPS)) cmapSelect.add(new Option(name, name, false, name === colormap));
   cmapSelect.onchange = () => { params.set('colormap', cmapSelect.value); location.search = params.toString(); };
 
-  // Meshes.
-  const meshes = await Promise.all(panelNames.map(async (name) => {
+  // Meshes. A panel whose file does not exist (HTTP 404: e.g. that method failed) is shown empty,
+  // marked "no result", and listed in state.warnings; any other problem fails the page.
+  const loaded = await Promise.all(panelNames.map(async (name) => {
     const file = `${dir}/${name}.ply`;
-    const bytes = await (await fetchOk(base + encodeURIComponent(name) + '.ply', file)).arrayBuffer();
+    const response = await fetch(base + encodeURIComponent(name) + '.ply', { cache: 'no-store' });
+    if(response.status === 404) return { name, file, missing: `${file}: HTTP 404 ${response.statusText}` };
+    if(!response.ok) throw new Error(`${file}: HTTP ${response.status} ${response.statusText}`);
+    const bytes = await response.arrayBuffer();
     let mesh;
     try { mesh = parsePLY(bytes); } catch(e) { throw new Error(`${file}: ${e.message}`); }
     const field = mesh.vertexProperties[fieldName];
@@ -82,6 +88,9 @@ async function main() {
     if(mesh.indices.length === 0) throw new Error(`${file} has no faces`);
     return { name, file, ...mesh, field };
   }));
+  state.warnings = loaded.filter((m) => m.missing).map((m) => m.missing);
+  const meshes = loaded.filter((m) => !m.missing);
+  if(meshes.length === 0) throw new Error(`no panel could be loaded: ${state.warnings.join('; ')}`);
 
   let range = null;
   if(params.has('range')) range = params.get('range').split(',').map((s) => (s.trim() === '' ? null : Number(s)));
@@ -89,7 +98,8 @@ async function main() {
   const shared = sharedRange(meshes.map((m) => m.field), range);
   const data = sharedRange(meshes.map((m) => m.field));
   state.range = shared;
-  state.panels = meshes.map((m) => {
+  state.panels = loaded.map((m) => {
+    if(m.missing) return { name: m.name, missing: true };
     const own = fieldExtent(m.field) || { min: null, max: null };
     return { name: m.name, vertices: m.vertexCount, faces: m.indices.length / 3, min: own.min, max: own.max };
   });
@@ -98,7 +108,7 @@ async function main() {
   const w = positiveNumber('w', 400);
   if(figureMode) {
     document.body.classList.add('figure');
-    $('figure').style.width = `${w * meshes.length}px`;
+    $('figure').style.width = `${w * loaded.length}px`;
     $('panels').style.height = `${positiveNumber('h', w)}px`;
   }
   $('figure-title').textContent = task.title || task.task || dir;
@@ -107,10 +117,18 @@ async function main() {
   const letters = 'abcdefghijklmnopqrstuvwxyz';
   const titles = task.panel_titles || {};
   const view = new PanelView($('panels'), { interactive: !figureMode, preserveDrawingBuffer: figureMode });
-  view.setPanels(meshes.map((m, i) => ({
+  view.setPanels(loaded.map((m, i) => ({
     title: `(${letters[i % 26]}) ${titles[m.name] || PANEL_TITLES[m.name] || m.name}`,
-    object: createFieldMesh(m, shared, colormap, { flatShading: Boolean(task.flat_shading) }),
+    object: m.missing ? new THREE.Group()
+                      : createFieldMesh(m, shared, colormap, { flatShading: Boolean(task.flat_shading) }),
   })));
+  loaded.forEach((m, i) => {
+    if(!m.missing) return;
+    const note = document.createElement('div');
+    note.className = 'panel-missing';
+    note.textContent = `no result (${m.name}.ply not found)`;
+    view.panels[i].port.append(note);
+  });
   view.resize();
   const camera = task.camera || {};
   if(figureMode && !params.has('h')) {
@@ -123,11 +141,23 @@ async function main() {
   view.fitCamera({ direction: camera.direction || null, up: camera.up || null, margin: camera.margin || 1.06 });
 
   drawColorBar($('colorbar'), {
-    min: shared.min, max: shared.max, colormap, label: task.field || fieldName,
+    min: shared.min, max: shared.max, colormap, label: (task.field || fieldName).replace(/_/g, ' '),
     clippedMax: shared.max < data.max, clippedMin: shared.min > data.min,
   });
-  $('info').textContent = meshes.map((m) => `${m.name}: ${m.vertexCount} vertices`).join(' | ') +
-    ' - drag: turn, wheel: zoom, right drag: pan';
+  const counts = [...new Set(meshes.map((m) => m.vertexCount))];
+  $('info').textContent = `${counts.join(' / ')} vertices - drag: turn, wheel: zoom, right drag: pan`;
+  // Hovering shows the field at the vertex nearest to the pointer.
+  let probe = null;
+  view.canvas.addEventListener('pointermove', (event) => {
+    if(event.buttons !== 0 || probe) return;
+    probe = requestAnimationFrame(() => {
+      probe = null;
+      const hit = view.pick(event.clientX, event.clientY);
+      if(!hit) { $('probe').textContent = ''; return; }
+      const mesh = meshes.find((m) => m.name === loaded[hit.panel].name);
+      $('probe').textContent = `${mesh.name}, vertex ${hit.vertex}: ${formatValue(mesh.field[hit.vertex])}`;
+    });
+  });
   $('reset').onclick = () => view.resetView();
   window.addEventListener('keydown', (e) => { if(e.key === 'r' || e.key === 'R') view.resetView(); });
   state.view = view;

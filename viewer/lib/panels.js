@@ -170,6 +170,29 @@ export class PanelView {
     }
   }
 
+  /**
+   * What is under a point of the page (client coordinates): { panel (index), object, point,
+   * face, vertex (the face's corner nearest to the hit) } or null.
+   */
+  pick(clientX, clientY) {
+    for(const [index, panel] of this.panels.entries()) {
+      const rect = panel.port.getBoundingClientRect();
+      if(clientX < rect.left || clientX >= rect.right || clientY < rect.top || clientY >= rect.bottom) continue;
+      const ndc = new THREE.Vector2(2 * (clientX - rect.left) / rect.width - 1, 1 - 2 * (clientY - rect.top) / rect.height);
+      const raycaster = new THREE.Raycaster();
+      raycaster.setFromCamera(ndc, this.camera);
+      const hit = raycaster.intersectObject(panel.object, true)[0];
+      if(!hit || !hit.face) return null;
+      const position = hit.object.geometry.getAttribute('position');
+      const local = hit.object.worldToLocal(hit.point.clone());
+      const corners = [hit.face.a, hit.face.b, hit.face.c];
+      const distance = (v) => local.distanceToSquared(new THREE.Vector3().fromBufferAttribute(position, v));
+      const vertex = corners.reduce((best, v) => (distance(v) < distance(best) ? v : best));
+      return { panel: index, object: hit.object, point: hit.point, face: hit.faceIndex, vertex };
+    }
+    return null;
+  }
+
   /** Calls `callback(renderCount)` after each render (e.g. to mark a page as rendered). */
   onRender(callback) { this.listeners.push(callback); }
 
