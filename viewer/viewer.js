@@ -131,14 +131,24 @@ async function main() {
   });
   view.resize();
   const camera = task.camera || {};
+  const fit = () => view.fitCamera({ direction: camera.direction || null, up: camera.up || null, margin: camera.margin || 1.06 });
   if(figureMode && !params.has('h')) {
-    // Panel height from the objects' shape seen along the view (between w/3 and 2w), plus captions.
+    // Panel height from the objects' shape seen along the view (between w/3 and 2w), plus
+    // captions; then shrunk to what the perspective view actually fills.
     const aspect = view.contentAspect({ direction: camera.direction || null, up: camera.up || null });
     const caption = view.panels[0].element.offsetHeight - view.panels[0].port.offsetHeight;
-    $('panels').style.height = `${Math.round(Math.min(2 * w, Math.max(w / 3, 1.08 * w / aspect)) + caption)}px`;
-    view.resize();
+    let port = Math.min(2 * w, Math.max(w / 3, 1.08 * w / aspect));
+    for(let pass = 0; pass < 2; ++pass) {
+      $('panels').style.height = `${Math.round(port + caption)}px`;
+      view.resize();
+      fit();
+      const { y } = view.projectedExtent();
+      const used = (y[1] - y[0]) / 2 * 1.06;                  // the fraction of the height in use
+      if(!(used > 0) || used > 0.97) break;
+      port = Math.max(w / 3, port * used);
+    }
   }
-  view.fitCamera({ direction: camera.direction || null, up: camera.up || null, margin: camera.margin || 1.06 });
+  fit();
 
   drawColorBar($('colorbar'), {
     min: shared.min, max: shared.max, colormap, label: (task.field || fieldName).replace(/_/g, ' '),

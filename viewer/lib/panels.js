@@ -146,6 +146,19 @@ export class PanelView {
     return this;
   }
 
+  /** The extent of every panel's vertices in normalised device coordinates: { x: [lo, hi], y: [lo, hi] }. */
+  projectedExtent() {
+    this.camera.updateMatrixWorld();
+    const x = [Infinity, -Infinity], y = [Infinity, -Infinity];
+    const p = new THREE.Vector3();
+    this.eachPoint((q) => {
+      p.copy(q).project(this.camera);
+      x[0] = Math.min(x[0], p.x); x[1] = Math.max(x[1], p.x);
+      y[0] = Math.min(y[0], p.y); y[1] = Math.max(y[1], p.y);
+    });
+    return { x, y };
+  }
+
   /** Back to the view of the last fitCamera(). */
   resetView() {
     if(!this.home) return;
