@@ -195,3 +195,36 @@ TEST(LaplacianMatrix, RealMeshEdgeRowsAboutThreeTimesVertexRows)
   EXPECT_TRUE(values.allFinite());
   EXPECT_LE((de * ones).cwiseAbs().maxCoeff(), 1e-12 * values.cwiseAbs().sum());
 }
+
+// The row-by-row assembly of D equals the product L_w P it stands for.
+TEST(LaplacianMatrix, DirectAssemblyEqualsProductOfWeightsAndCombinations)
+{
+  Surface_mesh m;
+  ASSERT_TRUE(read_data_mesh("dino.off", m)) << data_path("dino.off");
+  typedef boost::property_map<Surface_mesh, CGAL::vertex_point_t>::const_type Vpm;
+  const Vpm vpm = get(CGAL::vertex_point, m);
+  const auto vim = CGAL::get_initialized_vertex_index_map(m);
+  auto check = [&](const LD::internal::Laplacian_stencils& s) {
+    std::vector<Eigen::Triplet<double>> t;
+    for(std::size_t a = 0; a < s.number_of_nodes; ++a)
+    {
+      double diagonal = 0;
+      for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
+      {
+        diagonal += s.weight[k];
+        t.emplace_back(int(a), int(s.neighbor[k]), -s.weight[k]);
+      }
+      t.emplace_back(int(a), int(a), diagonal);
+    }
+    Eigen::SparseMatrix<double> l(int(s.number_of_nodes), int(s.number_of_nodes));
+    l.setFromTriplets(t.begin(), t.end());
+    const Eigen::SparseMatrix<double> product = l * LD::internal::combination_matrix(s);
+    const Eigen::SparseMatrix<double> d = LD::internal::laplacian_operator(s);
+    EXPECT_EQ(d.rows(), product.rows());
+    EXPECT_EQ(d.cols(), product.cols());
+    EXPECT_LE((d - product).norm(), 1e-14 * product.norm());
+    EXPECT_LE(d.nonZeros(), product.nonZeros());
+  };
+  check(LD::internal::weighted_stencils(m, LD::Edge_based_representation(), LD::Cotangent_weights(), vpm, vim, Kernel()));
+  check(LD::internal::weighted_stencils(m, LD::Vertex_based_representation(), LD::Uniform_weights(), vpm, vim, Kernel()));
+}

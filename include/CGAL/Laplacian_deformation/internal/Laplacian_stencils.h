@@ -14,6 +14,8 @@
 
 #include <array>
 #include <cstddef>
+#include <algorithm>
+#include <utility>
 #include <vector>
 
 namespace CGAL {
@@ -142,26 +144,49 @@ inline Eigen::SparseMatrix<double> combination_matrix(const Laplacian_stencils& 
 }
 
 // The Laplacian operator D = L_w P (rows: nodes, columns: vertices),
-// delta_a = sum_b w_ab (x_a - x_b) = (D p)_a.
+// delta_a = sum_b w_ab (x_a - x_b) = (D p)_a. Assembled row by row (row a combines the
+// vertices of x_a and of its neighbours), without forming L_w and the sparse product; exact
+// zeros (cancellations) are dropped.
 inline Eigen::SparseMatrix<double> laplacian_operator(const Laplacian_stencils& s)
 {
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(s.neighbor.size() + s.number_of_nodes);
+  typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Row_major;
+  std::vector<int> outer(s.number_of_nodes + 1, 0), inner;
+  std::vector<double> values;
+  inner.reserve(4 * s.neighbor.size());
+  values.reserve(4 * s.neighbor.size());
+  std::vector<std::pair<std::size_t, double>> row;
   for(std::size_t a = 0; a < s.number_of_nodes; ++a)
   {
+    row.clear();
     double diagonal = 0;
     for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
     {
+      const std::size_t b = s.neighbor[k];
       diagonal += s.weight[k];
-      t.emplace_back(int(a), int(s.neighbor[k]), -s.weight[k]);
+      for(std::size_t j = s.combination_start[b]; j < s.combination_start[b + 1]; ++j)
+        row.emplace_back(s.combination_vertex[j], -s.weight[k] * s.combination_coefficient[j]);
     }
-    t.emplace_back(int(a), int(a), diagonal);
+    for(std::size_t j = s.combination_start[a]; j < s.combination_start[a + 1]; ++j)
+      row.emplace_back(s.combination_vertex[j], diagonal * s.combination_coefficient[j]);
+    std::sort(row.begin(), row.end(),
+              [](const std::pair<std::size_t, double>& x, const std::pair<std::size_t, double>& y) { return x.first < y.first; });
+    for(std::size_t i = 0; i < row.size();)
+    {
+      double sum = 0;
+      const std::size_t v = row[i].first;
+      for(; i < row.size() && row[i].first == v; ++i)
+        sum += row[i].second;
+      if(sum != 0)
+      {
+        inner.push_back(int(v));
+        values.push_back(sum);
+      }
+    }
+    outer[a + 1] = int(inner.size());
   }
-  Eigen::SparseMatrix<double> l(int(s.number_of_nodes), int(s.number_of_nodes));
-  l.setFromTriplets(t.begin(), t.end());
-  Eigen::SparseMatrix<double> d = l * combination_matrix(s);
-  d.prune(0.);
-  return d;
+  const Eigen::Map<const Row_major> d(Eigen::Index(s.number_of_nodes), Eigen::Index(s.number_of_vertices),
+                                      Eigen::Index(values.size()), outer.data(), inner.data(), values.data());
+  return Eigen::SparseMatrix<double>(d);
 }
 
 } // namespace internal
