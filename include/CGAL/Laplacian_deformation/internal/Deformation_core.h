@@ -87,31 +87,65 @@ public:
       row_of[m_rows[r]] = static_cast<long>(r);
     const Eigen::Index nr = static_cast<Eigen::Index>(m_rows.size());
 
-    // split D[rows, :] into the unknown block A and the known block K
-    std::vector<Eigen::Triplet<double>> ta, tk;
+    // split D[rows, :] into the unknown block A and the known block K, both assembled in
+    // compressed column form straight from D's columns (rows stay sorted: row_of is monotone)
+    m_soft.clear();
+    for(std::size_t j = 0; j < m_unknowns.size(); ++j)
+      if(role[m_unknowns[j]] == SOFT_CONTROL_VERTEX)
+        m_soft.push_back(j);
+    std::vector<int> a_outer(std::size_t(nu) + 1, 0), k_outer(n + 1, 0);
+    for(std::size_t v = 0; v < n; ++v)
+    {
+      int count = 0;
+      for(Eigen::SparseMatrix<double>::InnerIterator it(d, Eigen::Index(v)); it; ++it)
+        count += row_of[it.row()] >= 0;
+      if(m_unknown_index[v] >= 0)
+        a_outer[std::size_t(m_unknown_index[v]) + 1] = count;
+      else
+        k_outer[v + 1] = count;
+    }
+    for(std::size_t j : m_soft)
+      ++a_outer[j + 1];
+    std::partial_sum(a_outer.begin(), a_outer.end(), a_outer.begin());
+    std::partial_sum(k_outer.begin(), k_outer.end(), k_outer.begin());
+    m_a.resize(nr + Eigen::Index(m_soft.size()), nu);
+    m_a.resizeNonZeros(a_outer.back());
+    m_known.resize(nr, Eigen::Index(n));
+    m_known.resizeNonZeros(k_outer.back());
+    std::copy(a_outer.begin(), a_outer.end(), m_a.outerIndexPtr());
+    std::copy(k_outer.begin(), k_outer.end(), m_known.outerIndexPtr());
+
     std::vector<long> first_unknown(m_rows.size(), -1);
     std::vector<char> row_has_known(m_rows.size(), 0);
     Union_find components(m_unknowns.size());
+    double sum_squares = 0;
     for(std::size_t v = 0; v < n; ++v)
+    {
+      const long j = m_unknown_index[v];
+      int next = j >= 0 ? a_outer[std::size_t(j)] : k_outer[v];
       for(Eigen::SparseMatrix<double>::InnerIterator it(d, Eigen::Index(v)); it; ++it)
       {
         const long r = row_of[it.row()];
         if(r < 0)
           continue;
-        if(m_unknown_index[v] >= 0)
+        if(j >= 0)
         {
-          ta.emplace_back(Eigen::Index(r), Eigen::Index(m_unknown_index[v]), it.value());
+          m_a.innerIndexPtr()[next] = int(r);
+          m_a.valuePtr()[next++] = it.value();
+          sum_squares += it.value() * it.value();
           if(first_unknown[r] < 0)
-            first_unknown[r] = m_unknown_index[v];
+            first_unknown[r] = j;
           else
-            components.join(std::size_t(first_unknown[r]), std::size_t(m_unknown_index[v]));
+            components.join(std::size_t(first_unknown[r]), std::size_t(j));
         }
         else
         {
-          tk.emplace_back(Eigen::Index(r), Eigen::Index(v), it.value());
+          m_known.innerIndexPtr()[next] = int(r);
+          m_known.valuePtr()[next++] = it.value();
           row_has_known[r] = 1;
         }
       }
+    }
 
     // singular configurations: a connected part of the unknowns with no anchor
     std::vector<char> anchored(m_unknowns.size(), 0);
@@ -133,22 +167,15 @@ public:
       return result;
     }
 
-    // soft rows lambda (p_c - t_c), lambda^2 = soft_weight * mean diagonal of A^T A
-    m_soft.clear();
-    for(std::size_t j = 0; j < m_unknowns.size(); ++j)
-      if(role[m_unknowns[j]] == SOFT_CONTROL_VERTEX)
-        m_soft.push_back(j);
-    double sum_squares = 0;
-    for(const auto& t : ta)
-      sum_squares += t.value() * t.value();
+    // soft rows lambda (p_c - t_c), lambda^2 = soft_weight * mean diagonal of A^T A: the last
+    // entry of each soft control's column
     m_lambda = nu > 0 ? std::sqrt(soft_weight * sum_squares / double(nu)) : 0.;
     for(std::size_t k = 0; k < m_soft.size(); ++k)
-      ta.emplace_back(nr + Eigen::Index(k), Eigen::Index(m_soft[k]), m_lambda);
-
-    m_a.resize(nr + Eigen::Index(m_soft.size()), nu);
-    m_a.setFromTriplets(ta.begin(), ta.end());
-    m_known.resize(nr, Eigen::Index(n));
-    m_known.setFromTriplets(tk.begin(), tk.end());
+    {
+      const int last = a_outer[m_soft[k] + 1] - 1;
+      m_a.innerIndexPtr()[last] = int(nr) + int(k);
+      m_a.valuePtr()[last] = m_lambda;
+    }
     if(nu > 0 && !m_solver.factor(m_a))
     {
       result.status = m_solver.info() == m_solver.NOT_FINITE ? NON_FINITE_INPUT : FACTORIZATION_FAILED;
