@@ -141,7 +141,8 @@ TEST(LaplacianDeformCli, RegionsAroundHandles)
   EXPECT_EQ(count(cli::k_ring_region(mesh, {centre}, 0)), 1u);
   EXPECT_EQ(count(cli::k_ring_region(mesh, {centre}, 1)), 7u);
   EXPECT_EQ(count(cli::k_ring_region(mesh, {centre}, 100)), 49u);
-  EXPECT_EQ(count(cli::k_ring_region(mesh, {0, 48}, 1)), 6u);   // two corners: 3 vertices each
+  // the two corners of the diagonals: 3 neighbours each
+  EXPECT_EQ(count(cli::k_ring_region(mesh, {0, 48}, 1)), 8u);
   EXPECT_EQ(count(cli::radius_region(mesh, {centre}, 0.5)), 1u);
   EXPECT_EQ(count(cli::radius_region(mesh, {centre}, 1.01)), 5u);
   EXPECT_EQ(count(cli::radius_region(mesh, {centre}, 1.5)), 7u);
