@@ -1,209 +1,322 @@
-// laplacian_deform: the package's command-line tool. This first version runs the main job:
-// deform a mesh with a Botsch08 selection (.sel) and handle transformation (.def) with the
-// vertex-based and the edge-based S*R1 deformation, write both results and a side-by-side summary.
+// laplacian_deform: the package's command-line tool (see laplacian_deform --help).
 //
-//   laplacian_deform                                  CGAL's cactus (data unpacked by scripts/setup.sh)
-//   laplacian_deform MESH SEL DEF [OUTPUT_DIR]        any mesh CGAL reads (OFF, OBJ, PLY, STL)
-#include <CGAL/Simple_cartesian.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/boost/graph/IO/polygon_mesh_io.h>
-#include <CGAL/Laplacian_deformation/Mesh_deformer.h>
-#include <CGAL/Laplacian_deformation/Vertex_based_representation.h>
-#include <CGAL/Laplacian_deformation/IO/Botsch08.h>
+//   laplacian_deform                      the main job: CGAL's cactus (data unpacked by scripts/setup.sh)
+//                                         with its Botsch08 selection and transform, vertex-based and
+//                                         edge-based S*R1, both results and summary.txt written into
+//                                         ./laplacian_deform_output
+//   laplacian_deform MESH SEL DEF -o OUT  a Botsch08 task, any mesh CGAL reads (OFF, OBJ, PLY, STL)
+//   laplacian_deform MESH --handle IDS --roi-rings K --translate X,Y,Z -o OUT
+#include "laplacian_deform_run.h"
 
-#include <chrono>
-#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#ifdef CGAL_LINKED_WITH_TBB
+#include <tbb/global_control.h>
+#endif
+
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <iomanip>
-#include <iostream>
-#include <sstream>
+#include <memory>
 
-namespace LD = CGAL::Laplacian_deformation;
-namespace fs = std::filesystem;
-
-typedef CGAL::Simple_cartesian<double>                  Kernel;
-typedef Kernel::Point_3                                 Point_3;
-typedef CGAL::Surface_mesh<Point_3>                     Mesh;
-typedef boost::graph_traits<Mesh>::vertex_descriptor    vertex_descriptor;
+using namespace laplacian_deform;
 
 namespace {
 
-struct Run
-{
-  std::string name;
-  LD::Deformation_result result;
-  double preprocess_seconds = 0, deform_seconds = 0;
-  double mean_edge_distortion = 0, max_edge_distortion = 0;
-  Mesh mesh;
-};
+const char* const program = "laplacian_deform";
 
-// relative change of the length of every edge with a ROI endpoint
-void edge_distortion(const Mesh& rest, Run& run, const std::vector<int>& status)
+int fail(std::ostream& err, int code, const std::string& message)
 {
-  std::size_t count = 0;
-  for(auto e : edges(rest))
-  {
-    const vertex_descriptor a = source(e, rest), b = target(e, rest);
-    if(status[a] == LD::IO::BOTSCH08_FIXED && status[b] == LD::IO::BOTSCH08_FIXED)
-      continue;
-    const double l0 = std::sqrt(CGAL::squared_distance(rest.point(a), rest.point(b)));
-    const double l1 = std::sqrt(CGAL::squared_distance(run.mesh.point(a), run.mesh.point(b)));
-    const double d = l0 > 0 ? std::abs(l1 - l0) / l0 : 0.;
-    run.mean_edge_distortion += d;
-    run.max_edge_distortion = (std::max)(run.max_edge_distortion, d);
-    ++count;
-  }
-  if(count)
-    run.mean_edge_distortion /= double(count);
+  err << program << ": error: " << message << std::endl;
+  if(code == EXIT_USAGE)
+    err << "usage: " << program << " [OPTIONS] [MESH [SEL [DEF]]]   (see --help)" << std::endl;
+  return code;
 }
 
-template <class Representation>
-bool deform(const Mesh& rest, const std::vector<int>& status, const Eigen::Matrix4d& t, Run& run)
+std::string method_line(const Options& o, const std::string& representation, unsigned int threads)
 {
-  typedef std::chrono::steady_clock Clock;
-  run.mesh = rest;
-  LD::Mesh_deformer<Mesh, Representation> deformer(run.mesh);   // cotangent weights, S*R1
-  std::vector<vertex_descriptor> handles;
-  for(vertex_descriptor v : vertices(run.mesh))
+  std::ostringstream s;
+  s << (representation.empty() ? std::string("vertex- and edge-based") : representation + "-based") << ", "
+    << o.weights << " weights, " << transform_label(o.transform) << " transforms, ";
+  if(o.soft)
+    s << "soft constraints (weight " << o.soft_weight << "), ";
+  else
+    s << "hard constraints, ";
+  s << o.solver << " solver, " << o.iterations << " iteration" << (o.iterations > 1 ? "s" : "") << " at most, tolerance "
+    << o.tolerance << ", " << threads << " thread" << (threads > 1 ? "s" : "");
+  return s.str();
+}
+
+std::string task_lines(const Task& task)
+{
+  std::ostringstream s;
+  s << "mesh        " << task.mesh_file.string() << ": " << num_vertices(task.mesh) << " vertices, "
+    << num_edges(task.mesh) << " edges, " << num_faces(task.mesh) << " faces";
+  if(task.triangulated_faces > 0)
+    s << " (" << task.triangulated_faces << " non-triangle faces triangulated)";
+  s << "\nselection   " << task.selection_description << ": " << task.count(LD::IO::BOTSCH08_REGION_OF_INTEREST)
+    << " free, " << task.count(LD::IO::BOTSCH08_HANDLE) << " handle, " << task.count(LD::IO::BOTSCH08_FIXED)
+    << " fixed vertices\nmotion      " << task.motion_description << '\n';
+  return s.str();
+}
+
+// one run, as a human-readable block
+std::string run_lines(const Run_record& r)
+{
+  std::ostringstream s;
+  s << std::setprecision(4);
+  s << "preprocess  " << r.preprocess_seconds << " s (" << r.row_nodes << " rows)\n";
+  for(std::size_t k = 0; k < r.iterations.size(); ++k)
+    s << "iteration " << std::setw(2) << std::left << k + 1 << std::right << r.iterations[k].seconds
+      << " s, energy " << r.iterations[k].energy << ", change " << r.iterations[k].change << '\n';
+  s << "result      " << r.iterations.size() << " iteration" << (r.iterations.size() == 1 ? "" : "s") << " in "
+    << r.deform_seconds << " s, energy " << r.energy << ", largest handle distance to target "
+    << r.max_handle_distance << "\nquality     relative edge-length change over the deformed region: mean "
+    << r.mean_edge_distortion << ", max " << r.max_edge_distortion << '\n';
+  return s.str();
+}
+
+// the side-by-side table of a comparison
+std::string comparison_table(const Run_record runs[2])
+{
+  std::ostringstream s;
+  s << std::setprecision(4) << std::left;
+  s << std::setw(20) << "" << std::setw(14) << runs[0].name() << runs[1].name() << '\n';
+  auto row = [&](const std::string& label, auto get) {
+    s << std::setw(20) << label << std::setw(14) << get(runs[0]) << get(runs[1]) << '\n';
+  };
+  row("rows", [](const Run_record& r) { return r.row_nodes; });
+  row("preprocess s", [](const Run_record& r) { return r.preprocess_seconds; });
+  const std::size_t n = (std::max)(runs[0].iterations.size(), runs[1].iterations.size());
+  for(std::size_t k = 0; k < n; ++k)
+    row("iteration " + std::to_string(k + 1) + " s", [k](const Run_record& r) {
+      return k < r.iterations.size() ? std::to_string(r.iterations[k].seconds).substr(0, 8) : std::string("-");
+    });
+  row("deform s", [](const Run_record& r) { return r.deform_seconds; });
+  row("iterations", [](const Run_record& r) { return r.iterations.size(); });
+  row("energy", [](const Run_record& r) { return r.energy; });
+  row("handle distance", [](const Run_record& r) { return r.max_handle_distance; });
+  row("edge dist mean", [](const Run_record& r) { return r.mean_edge_distortion; });
+  row("edge dist max", [](const Run_record& r) { return r.max_edge_distortion; });
+  return s.str();
+}
+
+nlohmann::json run_json(const Run_record& r)
+{
+  nlohmann::json iterations = nlohmann::json::array();
+  for(const Iteration_record& it : r.iterations)
+    iterations.push_back({{"seconds", it.seconds}, {"local_step_seconds", it.local_step_seconds},
+                          {"right_hand_side_seconds", it.right_hand_side_seconds},
+                          {"solve_seconds", it.solve_seconds}, {"energy", it.energy}, {"change", it.change}});
+  return {{"representation", r.representation}, {"weights", r.weights}, {"transform", r.transform},
+          {"solver", r.solver}, {"status", r.status}, {"rows", r.row_nodes},
+          {"preprocess_seconds", r.preprocess_seconds}, {"deform_seconds", r.deform_seconds},
+          {"iterations", iterations}, {"energy", r.energy}, {"last_change", r.last_change},
+          {"max_constraint_residual", r.max_constraint_residual}, {"max_handle_distance", r.max_handle_distance},
+          {"edge_length_distortion", {{"mean", r.mean_edge_distortion}, {"max", r.max_edge_distortion}}}};
+}
+
+int run_tool(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
+{
+  Options o;
+  std::string error;
+  if(!parse_command_line(args, o, error))
+    return fail(err, EXIT_USAGE, error);
+  if(o.help)
   {
-    if(status[v] == LD::IO::BOTSCH08_REGION_OF_INTEREST)
-      deformer.insert_roi_vertex(v);
-    else if(status[v] == LD::IO::BOTSCH08_HANDLE)
+    out << usage_text();
+    return EXIT_OK;
+  }
+#ifndef LAPLACIAN_DEFORM_HAS_CHOLMOD
+  if(o.solver == "cholmod")
+    return fail(err, EXIT_USAGE, "this build has no CHOLMOD (SuiteSparse was not found): use --solver eigen");
+#endif
+  unsigned int threads = 1;
+#ifdef CGAL_LINKED_WITH_TBB
+  std::unique_ptr<tbb::global_control> thread_limit;
+  if(o.threads > 0)
+    thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o.threads);
+  threads = unsigned(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+#else
+  if(o.threads > 1)
+    return fail(err, EXIT_USAGE, "this build has no TBB: only --threads 1 is supported");
+#endif
+
+  // the outputs, checked before any work
+  const fs::path mesh_file = o.main_job() ? fs::path(LAPLACIAN_DEFORMATION_DATA_DIR) / "cactus.off" : fs::path(o.mesh);
+  const std::string stem = mesh_file.stem().string();
+  const std::vector<fs::path> inputs = {mesh_file, o.selection, o.transform_file};
+  fs::path output, output_dir;
+  std::vector<fs::path> outputs;
+  if(o.comparing())
+  {
+    output_dir = o.output_dir.empty() ? fs::path("laplacian_deform_output") : fs::path(o.output_dir);
+    std::error_code ec;
+    if(fs::exists(output_dir, ec) && !fs::is_directory(output_dir, ec))
+      return fail(err, EXIT_ERROR, "the output folder " + quoted(output_dir) + " is a file");
+    for(const char* name : {"_vertex-based.off", "_edge-based.off"})
+      outputs.push_back(output_dir / (stem + name));
+    outputs.push_back(output_dir / "summary.txt");
+    if(!fs::exists(output_dir, ec))   // created after the deformation: only the inputs can clash
+      for(const fs::path& p : outputs)
+        for(const fs::path& in : inputs)
+          if(!in.empty() && !o.force && same_file(p, in))
+            return fail(err, EXIT_ERROR, "the output " + quoted(p) + " is the input " + quoted(in) +
+                                         ": refusing to overwrite it (pass --force to allow it)");
+  }
+  else
+  {
+    output = o.output.empty() ? fs::path(stem + "_deformed" + mesh_file.extension().string()) : fs::path(o.output);
+    if(!is_mesh_extension(extension_of(output)))
+      return fail(err, EXIT_USAGE, "cannot write a mesh to " + quoted(output) + ": unknown extension '" +
+                                   extension_of(output) + "' (expected .off, .obj, .ply or .stl)");
+    outputs.push_back(output);
+  }
+  if(!o.report.empty())
+    outputs.push_back(o.report);
+  {
+    std::vector<fs::path> checked;
+    std::error_code ec;
+    for(const fs::path& p : outputs)
+      if(!(o.comparing() && p.parent_path() == output_dir && !fs::exists(output_dir, ec)))
+        checked.push_back(p);
+    if(!check_outputs(checked, inputs, o.force, error))
+      return fail(err, EXIT_ERROR, error);
+  }
+
+  Progress progress(o.progress != "never", o.progress == "always" ? 0. : 1., err);
+  progress.stage("reading " + mesh_file.string());
+  Task task;
+  if(!load_task(o, LAPLACIAN_DEFORMATION_DATA_DIR, task, error))
+  {
+    progress.stop();
+    return fail(err, EXIT_ERROR, error);
+  }
+
+  std::vector<Run_record> runs(o.comparing() ? 2 : 1);
+  for(std::size_t k = 0; k < runs.size(); ++k)
+  {
+    Run_record& r = runs[k];
+    r.representation = o.comparing() ? (k == 0 ? "vertex" : "edge") : o.representation;
+    r.weights = o.weights;
+    r.transform = o.transform;
+    r.solver = o.solver;
+    run_deformation(task, o, r, progress);
+    if(!r.ok)
     {
-      deformer.insert_control_vertex(v);
-      handles.push_back(v);
+      progress.stop();
+      return fail(err, EXIT_ERROR, "the " + r.name() + " deformation failed (" + r.status + "): " + r.message +
+                                   "; nothing was written");
     }
   }
-  const auto t0 = Clock::now();
-  if(!deformer.preprocess())
-  {
-    std::cerr << run.name << ": " << deformer.last_result().message << std::endl;
-    return false;
-  }
-  const auto t1 = Clock::now();
-  for(vertex_descriptor v : handles)
-  {
-    const Point_3& p = run.mesh.point(v);
-    const Eigen::Vector4d q = t * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.);
-    deformer.set_target_position(v, Point_3(q.x(), q.y(), q.z()));
-  }
-  run.result = deformer.deform(4, 0.);   // the paper's 3 to 4 iterations
-  const auto t2 = Clock::now();
-  run.preprocess_seconds = std::chrono::duration<double>(t1 - t0).count();
-  run.deform_seconds = std::chrono::duration<double>(t2 - t1).count();
-  if(!run.result)
-    std::cerr << run.name << ": " << run.result.message << std::endl;
-  return bool(run.result);
-}
 
-// write to a temporary file in the same folder, then rename: never a half-written result
-bool write_atomically(const fs::path& path, const Mesh& mesh)
-{
-  const fs::path tmp = path.parent_path() / (".tmp." + path.filename().string());
-  if(!CGAL::IO::write_polygon_mesh(tmp.string(), mesh, CGAL::parameters::stream_precision(17)))
+  // the human summary
+  std::ostringstream summary;
+  summary << task_lines(task) << "method      " << method_line(o, o.comparing() ? "" : o.representation, threads) << '\n';
+  if(o.comparing())
+    summary << '\n' << comparison_table(runs.data());
+  else
+    summary << run_lines(runs[0]);
+
+  // the JSON report
+  nlohmann::json report;
+  if(!o.report.empty())
   {
+    nlohmann::json js_runs = nlohmann::json::array();
+    for(const Run_record& r : runs)
+      js_runs.push_back(run_json(r));
+    std::vector<std::string> written;
+    for(const fs::path& p : outputs)
+      if(p != fs::path(o.report))
+        written.push_back(p.string());
+    report = {{"tool", program},
+              {"mesh", {{"file", task.mesh_file.string()}, {"vertices", num_vertices(task.mesh)},
+                        {"edges", num_edges(task.mesh)}, {"faces", num_faces(task.mesh)},
+                        {"triangulated_faces", task.triangulated_faces}}},
+              {"selection", {{"source", task.selection_description},
+                             {"free", task.count(LD::IO::BOTSCH08_REGION_OF_INTEREST)},
+                             {"handles", task.count(LD::IO::BOTSCH08_HANDLE)},
+                             {"fixed", task.count(LD::IO::BOTSCH08_FIXED)}}},
+              {"motion", {{"source", task.motion_description}, {"matrix", {
+                  {task.transform(0, 0), task.transform(0, 1), task.transform(0, 2), task.transform(0, 3)},
+                  {task.transform(1, 0), task.transform(1, 1), task.transform(1, 2), task.transform(1, 3)},
+                  {task.transform(2, 0), task.transform(2, 1), task.transform(2, 2), task.transform(2, 3)},
+                  {task.transform(3, 0), task.transform(3, 1), task.transform(3, 2), task.transform(3, 3)}}}}},
+              {"options", {{"weights", o.weights}, {"transform", o.transform}, {"solver", o.solver},
+                           {"iterations", o.iterations}, {"tolerance", o.tolerance},
+                           {"constraints", o.soft ? "soft" : "hard"}, {"soft_weight", o.soft ? o.soft_weight : 0.},
+                           {"threads", threads}}},
+              {"runs", js_runs},
+              {"outputs", written}};
+  }
+
+  // the outputs, each written atomically
+  progress.stage("writing the results");
+  if(o.comparing())
+  {
+    std::error_code ec;
+    fs::create_directories(output_dir, ec);
+    if(ec)
+    {
+      progress.stop();
+      return fail(err, EXIT_ERROR, "cannot create the folder " + quoted(output_dir) + ": " + ec.message());
+    }
+  }
+  std::vector<fs::path> done;
+  auto undo = [&] {
     std::error_code ignored;
-    fs::remove(tmp, ignored);
-    return false;
+    for(const fs::path& p : done)
+      fs::remove(p, ignored);
+  };
+  for(std::size_t k = 0; k < runs.size(); ++k)
+  {
+    if(!write_mesh_atomically(outputs[k], runs[k].mesh, error))
+    {
+      undo();
+      progress.stop();
+      return fail(err, EXIT_ERROR, error);
+    }
+    done.push_back(outputs[k]);
+    summary << "wrote       " << outputs[k].string() << '\n';
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  return !ec;
-}
-
-int usage(std::ostream& out, int code)
-{
-  out << "usage: laplacian_deform [MESH SEL DEF [OUTPUT_DIR]]\n"
-         "  Deforms MESH (OFF, OBJ, PLY or STL triangle mesh) with the Botsch08 selection SEL\n"
-         "  (one status per vertex: 0 fixed, 1 region of interest, 2 handle) and the 4x4 handle\n"
-         "  transformation DEF, with the vertex-based and the edge-based S*R1 deformation\n"
-         "  (cotangent weights, 4 iterations), and writes both results and summary.txt into\n"
-         "  OUTPUT_DIR (default: laplacian_deform_output). Without arguments: CGAL's cactus.\n";
-  return code;
+  if(!o.report.empty())
+    summary << "report      " << o.report << '\n';
+  if(o.comparing())
+  {
+    if(!write_text_atomically(outputs[2], summary.str(), error))
+    {
+      undo();
+      progress.stop();
+      return fail(err, EXIT_ERROR, error);
+    }
+    done.push_back(outputs[2]);
+  }
+  if(!o.report.empty() && !write_text_atomically(o.report, report.dump(2) + "\n", error))
+  {
+    undo();
+    progress.stop();
+    return fail(err, EXIT_ERROR, error);
+  }
+  progress.stop();
+  if(!o.quiet)
+  {
+    out << summary.str();
+    if(o.comparing())
+      out << "summary in  " << outputs[2].string() << '\n';
+    out << std::flush;
+  }
+  return EXIT_OK;
 }
 
 } // namespace
 
 int main(int argc, char** argv)
 {
-  if(argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h"))
-    return usage(std::cout, EXIT_SUCCESS);
-  if(argc != 1 && argc != 4 && argc != 5)
-    return usage(std::cerr, EXIT_FAILURE);
-  const fs::path data(LAPLACIAN_DEFORMATION_DATA_DIR);
-  const fs::path mesh_file = argc > 1 ? fs::path(argv[1]) : data / "cactus.off";
-  const fs::path sel_file = argc > 1 ? fs::path(argv[2]) : data / "cactus.sel";
-  const fs::path def_file = argc > 1 ? fs::path(argv[3]) : data / "cactus.def";
-  const fs::path output = argc > 4 ? fs::path(argv[4]) : fs::path("laplacian_deform_output");
-
-  Mesh rest;
-  if(!fs::is_regular_file(mesh_file) || !CGAL::IO::read_polygon_mesh(mesh_file.string(), rest) || is_empty(rest))
+  try
   {
-    std::cerr << "error: cannot read a mesh from " << mesh_file << std::endl;
-    return EXIT_FAILURE;
+    return run_tool(std::vector<std::string>(argv + 1, argv + argc), std::cout, std::cerr);
   }
-  if(!CGAL::is_triangle_mesh(rest))
+  catch(const std::exception& e)
   {
-    std::cerr << "error: " << mesh_file << " has non-triangle faces" << std::endl;
-    return EXIT_FAILURE;
+    return fail(std::cerr, EXIT_ERROR, std::string("unexpected failure: ") + e.what());
   }
-  std::vector<int> status;
-  std::string error;
-  std::ifstream sel(sel_file);
-  if(!sel || !LD::IO::read_botsch08_selection(sel, status, error, num_vertices(rest)))
-  {
-    std::cerr << "error: " << sel_file << ": " << (sel ? error : "cannot open") << std::endl;
-    return EXIT_FAILURE;
-  }
-  Eigen::Matrix4d transform;
-  std::ifstream def(def_file);
-  if(!def || !LD::IO::read_botsch08_transform(def, transform, error))
-  {
-    std::cerr << "error: " << def_file << ": " << (def ? error : "cannot open") << std::endl;
-    return EXIT_FAILURE;
-  }
-
-  Run runs[2];
-  runs[0].name = "vertex-based";
-  runs[1].name = "edge-based";
-  if(!deform<LD::Vertex_based_representation>(rest, status, transform, runs[0]) ||
-     !deform<LD::Edge_based_representation>(rest, status, transform, runs[1]))
-    return EXIT_FAILURE;
-
-  std::error_code ec;
-  fs::create_directories(output, ec);
-  const std::string stem = mesh_file.stem().string();
-  std::ostringstream summary;
-  summary << std::setprecision(4);
-  summary << "mesh " << mesh_file.string() << ": " << num_vertices(rest) << " vertices, " << num_edges(rest)
-          << " edges; ROI " << std::count(status.begin(), status.end(), 1) << ", handles "
-          << std::count(status.begin(), status.end(), 2) << ", fixed " << std::count(status.begin(), status.end(), 0)
-          << "\ncotangent weights, S*R1 transforms, hard constraints, 4 iterations\n\n"
-          << std::left << std::setw(16) << "" << std::setw(14) << "vertex-based" << "edge-based\n";
-  auto row = [&](const char* label, auto get) {
-    summary << std::left << std::setw(16) << label << std::setw(14) << get(runs[0]) << get(runs[1]) << '\n';
-  };
-  row("preprocess s", [](const Run& r) { return r.preprocess_seconds; });
-  row("deform s", [](const Run& r) { return r.deform_seconds; });
-  row("iterations", [](const Run& r) { return r.result.iterations; });
-  row("energy", [](const Run& r) { return r.result.energy; });
-  for(Run& r : runs)
-    edge_distortion(rest, r, status);
-  row("edge dist mean", [](const Run& r) { return r.mean_edge_distortion; });
-  row("edge dist max", [](const Run& r) { return r.max_edge_distortion; });
-  for(Run& r : runs)
-  {
-    const fs::path path = output / (stem + "_" + r.name + ".off");
-    if(!write_atomically(path, r.mesh))
-    {
-      std::cerr << "error: cannot write " << path << std::endl;
-      return EXIT_FAILURE;
-    }
-    summary << "wrote " << path.string() << '\n';
-  }
-  std::ofstream(output / "summary.txt") << summary.str();
-  std::cout << summary.str() << "summary in " << (output / "summary.txt").string() << std::endl;
-  return EXIT_SUCCESS;
 }

@@ -1,0 +1,456 @@
+// The laplacian_deform command-line tool: its parser and task helpers in-process, and the real
+// binary end to end (the cactus task reproduces the library exactly; every bad use gets a clear
+// message, a non-zero exit and no output file).
+#include "test_helpers.h"
+
+#include "laplacian_deform_cli.h"
+
+#include <CGAL/Laplacian_deformation/Mesh_deformer.h>
+#include <CGAL/Laplacian_deformation/Vertex_based_representation.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifndef LAPLACIAN_DEFORM_TOOL
+#error "LAPLACIAN_DEFORM_TOOL must be defined (by CMake) as the path of the laplacian_deform binary"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace LD = CGAL::Laplacian_deformation;
+namespace cli = laplacian_deform;
+using namespace Laplacian_deformation_test;
+
+// ---------------------------------------------------------------------------------------------
+// The parser, in-process
+
+bool parse(const std::vector<std::string>& args, cli::Options& o, std::string& error)
+{
+  o = cli::Options();
+  error.clear();
+  return cli::parse_command_line(args, o, error);
+}
+
+std::string parse_error(const std::vector<std::string>& args)
+{
+  cli::Options o;
+  std::string error;
+  EXPECT_FALSE(parse(args, o, error));
+  return error;
+}
+
+TEST(LaplacianDeformCli, ParsesEveryOption)
+{
+  cli::Options o;
+  std::string error;
+  ASSERT_TRUE(parse({"m.off", "--handle", "3,5-7", "--handle=9", "--roi-rings", "4", "--translate", "1,-2,3e-1",
+                     "--rotate", "0,0,1,90,1,2,3", "--representation", "vertex", "--weights=uniform",
+                     "--transform", "similarity", "--iterations", "7", "--tolerance", "1e-5", "--soft", "10",
+                     "--solver", "cholmod", "--threads", "2", "-o", "out.obj", "--report", "r.json", "--force",
+                     "--triangulate", "--progress", "never", "--quiet"}, o, error)) << error;
+  EXPECT_EQ(o.mesh, "m.off");
+  EXPECT_EQ(o.handles, (std::vector<std::size_t>{3, 5, 6, 7, 9}));
+  EXPECT_EQ(o.roi_rings, 4);
+  EXPECT_TRUE(o.has_translate);
+  EXPECT_EQ(o.translate[2], 0.3);
+  EXPECT_TRUE(o.has_rotate && o.has_center);
+  EXPECT_EQ(o.angle_degrees, 90.);
+  EXPECT_EQ(o.center[1], 2.);
+  EXPECT_EQ(o.representation, "vertex");
+  EXPECT_EQ(o.weights, "uniform");
+  EXPECT_EQ(o.transform, "similarity");
+  EXPECT_EQ(o.iterations, 7u);
+  EXPECT_EQ(o.tolerance, 1e-5);
+  EXPECT_TRUE(o.soft);
+  EXPECT_EQ(o.soft_weight, 10.);
+  EXPECT_EQ(o.solver, "cholmod");
+  EXPECT_EQ(o.threads, 2u);
+  EXPECT_EQ(o.output, "out.obj");
+  EXPECT_EQ(o.report, "r.json");
+  EXPECT_TRUE(o.force && o.triangulate && o.quiet);
+  EXPECT_EQ(o.progress, "never");
+  EXPECT_FALSE(o.comparing());
+
+  ASSERT_TRUE(parse({}, o, error)) << error;
+  EXPECT_TRUE(o.main_job() && o.comparing());
+  EXPECT_EQ(o.iterations, 4u);
+  EXPECT_EQ(o.tolerance, 0.);
+  EXPECT_EQ(o.transform, "sr1");
+  ASSERT_TRUE(parse({"--help"}, o, error));
+  EXPECT_TRUE(o.help);
+  ASSERT_TRUE(parse({"m.off", "s.sel", "d.def", "--compare", "--output-dir", "d"}, o, error)) << error;
+  EXPECT_TRUE(o.comparing() && !o.main_job());
+  ASSERT_TRUE(parse({"m.off", "s.sel", "--rotate", "1,0,0,30"}, o, error)) << error;
+  EXPECT_FALSE(o.has_center);
+}
+
+TEST(LaplacianDeformCli, RejectsBadCommandLines)
+{
+  EXPECT_EQ(parse_error({"--bogus"}), "unknown option '--bogus' (see --help)");
+  EXPECT_EQ(parse_error({"m.off", "--iterations"}), "option --iterations needs a value (see --help)");
+  EXPECT_EQ(parse_error({"m.off", "--iterations", "0"}), "option --iterations: expected a positive integer, got '0'");
+  EXPECT_EQ(parse_error({"m.off", "--tolerance", "-1"}), "option --tolerance: expected a non-negative number, got '-1'");
+  EXPECT_EQ(parse_error({"m.off", "--soft", "nan"}), "option --soft: expected a positive number, got 'nan'");
+  EXPECT_EQ(parse_error({"--transform", "arap"}),
+            "option --transform: expected sr1, fixed, rotation, similarity, principal or rsr, got 'arap'");
+  EXPECT_EQ(parse_error({"m.off", "--handle", "1", "--roi-rings", "2", "--translate", "1,2"}),
+            "option --translate: expected three numbers X,Y,Z, got '1,2'");
+  EXPECT_EQ(parse_error({"m.off", "--handle", "4-2", "--roi-rings", "1"}),
+            "option --handle: expected vertex ids and ranges such as 12,40-45,300, got '4-2'");
+  EXPECT_EQ(parse_error({"m.off", "--rotate", "0,0,0,10"}), "option --rotate: expected a non-zero rotation axis, got '0,0,0,10'");
+  EXPECT_EQ(parse_error({"--force=yes"}), "option --force takes no value");
+  EXPECT_EQ(parse_error({"--iterations", "3", "--iterations", "4"}), "option --iterations is given twice");
+  EXPECT_EQ(parse_error({"a", "b", "c", "d"}), "too many arguments: 'd' (expected MESH [SEL [DEF]])");
+  EXPECT_EQ(parse_error({"m.off"}),
+            "no handle: give a selection file (MESH SEL DEF) or --handle IDS with --roi-rings K or --roi-radius R");
+  EXPECT_EQ(parse_error({"m.off", "--handle", "1"}),
+            "give the region of interest around the handles: one of --roi-rings K or --roi-radius R");
+  EXPECT_EQ(parse_error({"m.off", "--handle", "1", "--roi-rings", "1", "--roi-radius", "2"}),
+            "give the region of interest around the handles: one of --roi-rings K or --roi-radius R");
+  EXPECT_EQ(parse_error({"m.off", "s.sel", "d.def", "--translate", "1,0,0"}),
+            "the handle transformation comes from d.def: do not also give --translate or --rotate");
+  EXPECT_EQ(parse_error({"m.off", "s.sel", "d.def", "--handle", "1"}),
+            "the selection comes from s.sel: do not also give --handle or --roi-*");
+  EXPECT_EQ(parse_error({"m.off", "s.sel"}), "no handle motion: give DEF (MESH SEL DEF) or --translate / --rotate");
+  EXPECT_EQ(parse_error({"--handle", "1"}), "--handle, --roi-*, --translate and --rotate need a MESH");
+  EXPECT_EQ(parse_error({"--representation", "edge"}),
+            "without MESH the tool compares both representations: --representation does not apply");
+  EXPECT_EQ(parse_error({"-o", "x.off"}), "without MESH the tool writes a comparison: use --output-dir DIR, not --output");
+  EXPECT_EQ(parse_error({"m.off", "s.sel", "d.def", "--output-dir", "x"}),
+            "--output-dir applies to --compare (and to the default task); use --output FILE");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Regions of interest and handle motion, in-process
+
+TEST(LaplacianDeformCli, RegionsAroundHandles)
+{
+  // 6 x 6 grid of unit squares split along one diagonal: an interior vertex has 6 neighbours,
+  // 4 at distance 1 and 2 at distance sqrt(2)
+  const cli::Mesh mesh = to_mesh<cli::Mesh>(grid_soup(6, 6));
+  const std::size_t centre = 3 * 7 + 3;
+  auto count = [](const std::vector<bool>& in) { return std::size_t(std::count(in.begin(), in.end(), true)); };
+  EXPECT_EQ(count(cli::k_ring_region(mesh, {centre}, 0)), 1u);
+  EXPECT_EQ(count(cli::k_ring_region(mesh, {centre}, 1)), 7u);
+  EXPECT_EQ(count(cli::k_ring_region(mesh, {centre}, 100)), 49u);
+  // the two corners of the diagonals: 3 neighbours each
+  EXPECT_EQ(count(cli::k_ring_region(mesh, {0, 48}, 1)), 8u);
+  EXPECT_EQ(count(cli::radius_region(mesh, {centre}, 0.5)), 1u);
+  EXPECT_EQ(count(cli::radius_region(mesh, {centre}, 1.01)), 5u);
+  EXPECT_EQ(count(cli::radius_region(mesh, {centre}, 1.5)), 7u);
+  // distance 2 along edges: the 4 vertices two steps along an axis are in, (centre + (2, 2)) is not
+  const std::vector<bool> r2 = cli::radius_region(mesh, {centre}, 2.);
+  EXPECT_TRUE(r2[centre + 2] && r2[centre - 14]);
+  EXPECT_FALSE(r2[centre + 2 + 14]);
+}
+
+TEST(LaplacianDeformCli, HandleMotionRotatesAboutTheCentreThenTranslates)
+{
+  cli::Options o;
+  std::string error;
+  ASSERT_TRUE(parse({"m.off", "--handle", "0", "--roi-rings", "1", "--rotate", "0,0,2,90,1,0,0",
+                     "--translate", "0,0,5"}, o, error)) << error;
+  const Eigen::Matrix4d m = cli::motion_matrix(o, Eigen::Vector3d(7, 7, 7));
+  const Eigen::Vector4d p = m * Eigen::Vector4d(2, 0, 0, 1);
+  EXPECT_NEAR(p.x(), 1., 1e-15);
+  EXPECT_NEAR(p.y(), 1., 1e-15);
+  EXPECT_NEAR(p.z(), 5., 1e-15);
+  EXPECT_EQ(m.row(3), Eigen::RowVector4d(0, 0, 0, 1));
+  // without a centre the rotation is about the given default (the handles' centroid)
+  ASSERT_TRUE(parse({"m.off", "--handle", "0", "--roi-rings", "1", "--rotate", "0,0,1,180"}, o, error)) << error;
+  const Eigen::Vector4d q = cli::motion_matrix(o, Eigen::Vector3d(1, 1, 0)) * Eigen::Vector4d(1, 1, 3, 1);
+  EXPECT_NEAR((q.head<3>() - Eigen::Vector3d(1, 1, 3)).norm(), 0., 1e-15);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The binary, end to end
+
+struct Tool_result
+{
+  int code = -1;
+  std::string out, err;
+};
+
+std::string read_file(const fs::path& p)
+{
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+void write_file(const fs::path& p, const std::string& text)
+{
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+std::string shell_quote(const std::string& s)
+{
+  std::string q = "'";
+  for(char c : s)
+    q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+class LaplacianDeformTool : public ::testing::Test
+{
+protected:
+  void SetUp() override
+  {
+    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir = fs::current_path() / "laplacian_deform_cli_work" / info->name();
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    cactus = data_path("cactus.off");
+    sel = data_path("cactus.sel");
+    def = data_path("cactus.def");
+  }
+
+  // runs the tool in `dir`
+  Tool_result run(const std::vector<std::string>& args) const
+  {
+    std::string command = "cd " + shell_quote(dir.string()) + " && " + shell_quote(LAPLACIAN_DEFORM_TOOL);
+    for(const std::string& a : args)
+      command += " " + shell_quote(a);
+    command += " >" + shell_quote((dir / ".stdout").string()) + " 2>" + shell_quote((dir / ".stderr").string());
+    Tool_result r;
+    const int status = std::system(command.c_str());
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = read_file(dir / ".stdout");
+    r.err = read_file(dir / ".stderr");
+    fs::remove(dir / ".stdout");
+    fs::remove(dir / ".stderr");
+    return r;
+  }
+
+  // the files in `dir` (a failed run must leave none, not even a temporary one)
+  std::vector<std::string> files() const
+  {
+    std::vector<std::string> names;
+    for(const auto& e : fs::recursive_directory_iterator(dir))
+      names.push_back(fs::relative(e.path(), dir).string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+  // a bad use: non-zero exit, the message on stderr, nothing written
+  void expect_refused(const std::vector<std::string>& args, int code, const std::string& message)
+  {
+    const std::vector<std::string> before = files();
+    const Tool_result r = run(args);
+    EXPECT_EQ(r.code, code) << r.err;
+    EXPECT_NE(r.err.find("laplacian_deform: error: " + message), std::string::npos)
+        << "expected '" << message << "' in:\n" << r.err;
+    EXPECT_EQ(files(), before) << "a failed run wrote a file";
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+
+  fs::path dir;
+  std::string cactus, sel, def;
+};
+
+// The deformation the library gives for the cactus task (the CLI's defaults: cotangent, S*R1,
+// hard constraints, 4 iterations, tolerance 0).
+template <class Representation>
+cli::Mesh library_result()
+{
+  cli::Mesh mesh;
+  EXPECT_TRUE(read_data_mesh("cactus.off", mesh));
+  std::vector<int> status;
+  Eigen::Matrix4d t;
+  std::string error;
+  std::ifstream s(data_path("cactus.sel")), d(data_path("cactus.def"));
+  EXPECT_TRUE(LD::IO::read_botsch08_selection(s, status, error, num_vertices(mesh))) << error;
+  EXPECT_TRUE(LD::IO::read_botsch08_transform(d, t, error)) << error;
+  LD::Mesh_deformer<cli::Mesh, Representation> deformer(mesh);
+  std::vector<cli::vertex_descriptor> handles;
+  for(cli::vertex_descriptor v : vertices(mesh))
+    if(status[v] == LD::IO::BOTSCH08_REGION_OF_INTEREST)
+      deformer.insert_roi_vertex(v);
+    else if(status[v] == LD::IO::BOTSCH08_HANDLE)
+    {
+      deformer.insert_control_vertex(v);
+      handles.push_back(v);
+    }
+  for(cli::vertex_descriptor v : handles)
+  {
+    const cli::Point_3& p = mesh.point(v);
+    const Eigen::Vector4d q = t * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.);
+    deformer.set_target_position(v, cli::Point_3(q.x(), q.y(), q.z()));
+  }
+  const LD::Deformation_result r = deformer.deform(4, 0.);
+  EXPECT_TRUE(bool(r)) << r.message;
+  EXPECT_EQ(r.iterations, 4u);
+  return mesh;
+}
+
+void expect_identical(const fs::path& file, const cli::Mesh& expected)
+{
+  cli::Mesh written;
+  ASSERT_TRUE(CGAL::IO::read_polygon_mesh(file.string(), written)) << file;
+  ASSERT_EQ(num_vertices(written), num_vertices(expected));
+  ASSERT_EQ(num_faces(written), num_faces(expected));
+  std::size_t differing = 0;
+  for(cli::vertex_descriptor v : vertices(expected))
+    if(written.point(v) != expected.point(v))   // bitwise: OFF written with 17 digits round-trips
+      ++differing;
+  EXPECT_EQ(differing, 0u) << file;
+}
+
+TEST_F(LaplacianDeformTool, CactusTaskReproducesTheLibraryExactly)
+{
+  const Tool_result r = run({cactus, sel, def, "-o", "edge.off", "--report", "report.json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  expect_identical(dir / "edge.off", library_result<LD::Edge_based_representation>());
+  EXPECT_NE(r.out.find("620 vertices"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("iteration 4"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("wrote       edge.off"), std::string::npos) << r.out;
+
+  const nlohmann::json report = nlohmann::json::parse(read_file(dir / "report.json"));
+  ASSERT_EQ(report["runs"].size(), 1u);
+  EXPECT_EQ(report["runs"][0]["status"], "SUCCESS");
+  EXPECT_EQ(report["runs"][0]["representation"], "edge");
+  EXPECT_EQ(report["runs"][0]["iterations"].size(), 4u);
+  EXPECT_EQ(report["mesh"]["vertices"], 620);
+  EXPECT_EQ(report["selection"]["handles"].get<std::size_t>() + report["selection"]["free"].get<std::size_t>() +
+            report["selection"]["fixed"].get<std::size_t>(), 620u);
+  EXPECT_EQ(report["motion"]["matrix"][3], nlohmann::json({0., 0., 0., 1.}));
+  EXPECT_EQ(report["runs"][0]["max_handle_distance"], 0.);   // hard constraints
+}
+
+TEST_F(LaplacianDeformTool, MainJobReproducesTheLibraryWithBothRepresentations)
+{
+  // the default task, as scripts/demo.sh runs it (no argument), here with an explicit folder
+  const Tool_result r = run({"--output-dir", "cmp", "--progress", "always"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  expect_identical(dir / "cmp" / "cactus_vertex-based.off", library_result<LD::Vertex_based_representation>());
+  expect_identical(dir / "cmp" / "cactus_edge-based.off", library_result<LD::Edge_based_representation>());
+  const std::string summary = read_file(dir / "cmp" / "summary.txt");
+  EXPECT_NE(summary.find("vertex-based  edge-based"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("edge dist mean"), std::string::npos) << summary;
+  EXPECT_NE(r.out.find("summary in  cmp/summary.txt"), std::string::npos) << r.out;
+  // --progress always: a stage line per step on a non-terminal stderr
+  EXPECT_NE(r.err.find("laplacian_deform: edge-based: iteration 4/4"), std::string::npos) << r.err;
+}
+
+TEST_F(LaplacianDeformTool, CommandLineSelectionAndPolicies)
+{
+  write_file(dir / "quads.off", [] {
+    std::ostringstream s;
+    const Soup q = quad_grid_soup(4, 4);
+    s << "OFF\n" << q.points.size() << ' ' << q.faces.size() << " 0\n";
+    for(const auto& p : q.points)
+      s << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+    for(const auto& f : q.faces)
+      s << "4 " << f[0] << ' ' << f[1] << ' ' << f[2] << ' ' << f[3] << '\n';
+    return s.str();
+  }());
+  // a non-triangle mesh, triangulated on request; vertex 12 is the centre of the 5 x 5 grid
+  const Tool_result r = run({"quads.off", "--triangulate", "--handle", "12", "--roi-radius", "1.2", "--translate",
+                             "0,0,0.5", "--representation", "vertex", "--weights", "uniform", "--transform",
+                             "similarity", "--iterations", "3", "-o", "lifted.obj", "--report", "r.json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("(16 non-triangle faces triangulated)"), std::string::npos) << r.out;
+  cli::Mesh lifted;
+  ASSERT_TRUE(CGAL::IO::read_polygon_mesh((dir / "lifted.obj").string(), lifted));
+  EXPECT_EQ(num_faces(lifted), 32u);
+  EXPECT_DOUBLE_EQ(lifted.point(cli::vertex_descriptor(12)).z(), 0.5);
+  EXPECT_DOUBLE_EQ(lifted.point(cli::vertex_descriptor(0)).z(), 0.);      // outside the ROI
+  EXPECT_GT(lifted.point(cli::vertex_descriptor(13)).z(), 0.);            // a free neighbour follows
+  const nlohmann::json report = nlohmann::json::parse(read_file(dir / "r.json"));
+  EXPECT_EQ(report["selection"]["handles"], 1);
+  EXPECT_EQ(report["selection"]["free"], 4);      // the 4 axis neighbours (diagonals are longer than 1.2)
+  EXPECT_EQ(report["runs"][0]["transform"], "similarity");
+  EXPECT_EQ(report["runs"][0]["iterations"].size(), 3u);
+
+  // soft constraints leave a residual; the input is never touched
+  const std::string before = read_file(dir / "quads.off");
+  const Tool_result soft = run({"quads.off", "--triangulate", "--handle", "12", "--roi-rings", "1", "--translate",
+                                "0,0,0.5", "--soft", "0.01", "--quiet"});
+  ASSERT_EQ(soft.code, 0) << soft.err;
+  EXPECT_TRUE(soft.out.empty());
+  EXPECT_TRUE(fs::exists(dir / "quads_deformed.off"));
+  EXPECT_EQ(read_file(dir / "quads.off"), before);
+}
+
+TEST_F(LaplacianDeformTool, HelpExitsCleanly)
+{
+  const Tool_result r = run({"--help"});
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("usage: laplacian_deform [OPTIONS] [MESH [SEL [DEF]]]"), std::string::npos);
+  EXPECT_NE(r.out.find("--roi-radius R"), std::string::npos);
+}
+
+TEST_F(LaplacianDeformTool, BadUseIsRefusedAndWritesNothing)
+{
+  // unknown option
+  expect_refused({"--bogus", cactus, sel, def}, 2, "unknown option '--bogus' (see --help)");
+  // missing file
+  expect_refused({"nothing.off", sel, def, "-o", "out.off"}, 1, "cannot open 'nothing.off': no such file");
+  expect_refused({cactus, "nothing.sel", def, "-o", "out.off"}, 1,
+                 "cannot open the selection 'nothing.sel': no such file");
+  // unreadable mesh
+  write_file(dir / "broken.off", "OFF\n3 1 0\n0 0 0\n1 0\n");
+  expect_refused({"broken.off", sel, def, "-o", "out.off"}, 1, "cannot read a mesh from 'broken.off': not a valid off");
+  write_file(dir / "mesh.xyz", "0 0 0\n");
+  expect_refused({"mesh.xyz", sel, def, "-o", "out.off"}, 1,
+                 "cannot read a mesh from 'mesh.xyz': unknown extension 'xyz'");
+  // .sel with the wrong number of lines
+  write_file(dir / "short.sel", "# too short\n1\n2\n0\n");
+  expect_refused({cactus, "short.sel", def, "-o", "out.off"}, 1,
+                 "bad selection 'short.sel': the selection has 3 statuses but the mesh has 620 vertices");
+  // .sel with a bad token (line 6 of a copy of cactus.sel)
+  {
+    std::istringstream in(read_file(sel));
+    std::ostringstream out;
+    std::string line;
+    for(int number = 1; std::getline(in, line); ++number)
+      out << (number == 6 ? std::string("3") : line) << '\n';
+    write_file(dir / "token.sel", out.str());
+  }
+  expect_refused({cactus, "token.sel", def, "-o", "out.off"}, 1,
+                 "bad selection 'token.sel': line 6: expected one status 0, 1 or 2, got '3'");
+  // .def that is not 4x4 numbers, or has NaN
+  write_file(dir / "short.def", "1 0 0 0\n0 1 0 0\n0 0 1 0\n");
+  expect_refused({cactus, sel, "short.def", "-o", "out.off"}, 1,
+                 "bad handle transformation 'short.def': expected 16 numbers (a 4x4 matrix), got 12");
+  write_file(dir / "word.def", "1 0 0 0\n0 1 x 0\n0 0 1 0\n0 0 0 1\n");
+  expect_refused({cactus, sel, "word.def", "-o", "out.off"}, 1,
+                 "bad handle transformation 'word.def': entry 7 of the matrix is not a finite number: 'x'");
+  write_file(dir / "nan.def", "1 0 0 nan\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  expect_refused({cactus, sel, "nan.def", "-o", "out.off"}, 1,
+                 "bad handle transformation 'nan.def': entry 4 of the matrix is not a finite number: 'nan'");
+  // output equal to input without --force (also through another spelling of the path)
+  fs::copy_file(cactus, dir / "copy.off");
+  const std::string original = read_file(dir / "copy.off");
+  expect_refused({"copy.off", sel, def, "-o", "copy.off"}, 1,
+                 "the output 'copy.off' is the input 'copy.off': refusing to overwrite it (pass --force to allow it)");
+  expect_refused({"copy.off", sel, def, "-o", "./copy.off"}, 1,
+                 "the output './copy.off' is the input 'copy.off': refusing to overwrite it");
+  expect_refused({"copy.off", sel, def, "-o", "out.off", "--report", "copy.off"}, 1,
+                 "the output 'copy.off' is the input 'copy.off'");
+  EXPECT_EQ(read_file(dir / "copy.off"), original);
+  // non-triangle input without --triangulate
+  write_file(dir / "quad.off", "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n4 0 1 2 3\n3 1 4 2\n");
+  expect_refused({"quad.off", "--handle", "2", "--roi-rings", "1", "--translate", "0,0,1", "-o", "out.off"}, 1,
+                 "the mesh 'quad.off' has 1 non-triangle face (of 2); the deformation needs triangles: pass "
+                 "--triangulate to split them with CGAL::Polygon_mesh_processing::triangulate_faces");
+  // and a few more: unknown output format, missing output folder, handle out of range
+  expect_refused({cactus, sel, def, "-o", "out.txt"}, 2, "cannot write a mesh to 'out.txt': unknown extension 'txt'");
+  expect_refused({cactus, sel, def, "-o", "no/such/dir/out.off"}, 1, "cannot write 'no/such/dir/out.off': the folder 'no/such/dir' does not exist");
+  expect_refused({cactus, "--handle", "620", "--roi-rings", "2", "--translate", "0,0,1"}, 1,
+                 "handle vertex 620 does not exist: the mesh has 620 vertices (ids 0 to 619)");
+
+  // with --force the input may be overwritten
+  const Tool_result forced = run({"copy.off", sel, def, "-o", "copy.off", "--force", "--quiet"});
+  EXPECT_EQ(forced.code, 0) << forced.err;
+  EXPECT_NE(read_file(dir / "copy.off"), original);
+}
+
+} // namespace
