@@ -58,6 +58,16 @@ typedef boost::graph_traits<Mesh>::vertex_descriptor vertex_descriptor;
 enum Exit_code { EXIT_OK = 0, EXIT_ERROR = 1, EXIT_USAGE = 2 };
 
 /// everything the command line can say
+// the library's Default_solver_traits: CHOLMOD when the package target found it
+inline const char* default_solver()
+{
+#ifdef CGAL_LAPLACIAN_DEFORMATION_USE_CHOLMOD
+  return "cholmod";
+#else
+  return "eigen";
+#endif
+}
+
 struct Options
 {
   // positional: MESH [SEL [DEF]]
@@ -67,7 +77,7 @@ struct Options
   bool force = false, triangulate = false, compare = false, quiet = false, help = false;
   std::string progress = "auto";    // auto (after about 1 s), always, never
   // method
-  std::string representation = "edge", weights = "cotangent", transform = "sr1", solver = "eigen";
+  std::string representation = "edge", weights = "cotangent", transform = "sr1", solver = default_solver();
   unsigned int iterations = 4;
   double tolerance = 0;
   bool soft = false;
@@ -128,7 +138,9 @@ inline const char* usage_text()
 "  --tolerance X         stop when an iteration moves no vertex by more than X times the ROI's\n"
 "                        bounding-box diagonal (default 0: run every iteration)\n"
 "  --soft W              soft handle constraints of relative weight W (default: hard)\n"
-"  --solver eigen|cholmod                sparse Cholesky (default eigen)\n"
+"  --solver eigen|cholmod\n"
+"                        sparse Cholesky: Eigen's simplicial LLT or CHOLMOD's supernodal one\n"
+"                        (default: the library's default, CHOLMOD when built with it)\n"
 "  --threads N           threads of the local step (TBB; default: every core)\n"
 "\n"
 "Output:\n"

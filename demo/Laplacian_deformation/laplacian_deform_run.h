@@ -114,7 +114,7 @@ void with_solver(const Task& task, const Options& o, Run_record& run, Progress& 
   if(run.solver == "cholmod")
     return deform_run<Representation, Weights, Transform, LD::Cholmod_solver_traits>(task, o, run, progress);
 #endif
-  deform_run<Representation, Weights, Transform, LD::Default_solver_traits>(task, o, run, progress);
+  deform_run<Representation, Weights, Transform, LD::Eigen_simplicial_solver_traits>(task, o, run, progress);
 }
 
 template <class Representation, class Transform>
