@@ -7,6 +7,7 @@
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/boost/graph/IO/polygon_mesh_io.h>
 #include <CGAL/Laplacian_deformation/deform_mesh.h>
+#include <CGAL/Laplacian_deformation/Uniform_weights.h>
 
 #include <algorithm>
 #include <cstdlib>
