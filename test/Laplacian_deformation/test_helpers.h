@@ -155,6 +155,47 @@ inline Soup icosphere_soup(int subdivisions, double radius = 1.)
   return s;
 }
 
+/// Planar mesh of nx x ny cells on z = 0 mixing triangles, quads and pentagons, every face
+/// convex and every interior one-ring strictly convex. In rows j = 0, 2, 4, ... (below the last
+/// row), every even cell i is a pentagon whose top edge is bent up by a "roof" vertex at
+/// ((i + 1/2), (j + 1.2)) * spacing; the cell above it is split into three triangles at that roof
+/// vertex. Other cells with (i + j) % 3 == 0 are split into two triangles, the rest are quads.
+inline Soup mixed_polygon_soup(int nx, int ny, double spacing = 1.)
+{
+  Soup s = internal::grid_points(nx, ny, spacing);
+  std::map<std::pair<int, int>, std::size_t> roof;   // cell -> roof vertex above it
+  for(int j = 0; j + 1 < ny; j += 2)
+    for(int i = 0; i < nx; i += 2)
+    {
+      roof[std::make_pair(i, j)] = s.points.size();
+      s.points.push_back({{(i + 0.5) * spacing, (j + 1.2) * spacing, 0.}});
+    }
+  for(int j = 0; j < ny; ++j)
+    for(int i = 0; i < nx; ++i)
+    {
+      const std::size_t a = internal::grid_index(i, j, nx), b = internal::grid_index(i + 1, j, nx),
+                        c = internal::grid_index(i + 1, j + 1, nx), d = internal::grid_index(i, j + 1, nx);
+      const auto below = roof.find(std::make_pair(i, j)), above = roof.find(std::make_pair(i, j - 1));
+      if(below != roof.end())
+        s.faces.push_back({a, b, c, below->second, d});
+      else if(above != roof.end())
+      {
+        const std::size_t m = above->second;
+        s.faces.push_back({a, m, d});
+        s.faces.push_back({m, b, c});
+        s.faces.push_back({m, c, d});
+      }
+      else if((i + j) % 3 == 0)
+      {
+        s.faces.push_back({a, b, c});
+        s.faces.push_back({a, c, d});
+      }
+      else
+        s.faces.push_back({a, b, c, d});
+    }
+  return s;
+}
+
 /// Open triangulated tube around the z axis: `around` vertices per ring, `along` rows of
 /// quads (each split in two triangles), from z = 0 to z = height; two boundary loops.
 inline Soup cylinder_soup(int around, int along, double radius = 1., double height = 2.)

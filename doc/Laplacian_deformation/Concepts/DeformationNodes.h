@@ -21,7 +21,15 @@ Requirements the algorithm relies on:
 - both nodes of a fan triangle of `a` are in `neighbors(a)` (checked by an assertion); with
   `CGAL::Laplacian_deformation::Cotangent_weights`, each spoke `(x_a, x_b)` of an interior node
   should lie in exactly two fan triangles, on the boundary in one, and the fan should cover the
-  node's neighbourhood once (its area is the node's Voronoi area).
+  node's neighbourhood once (its area is the node's Voronoi area). On a polygon face the
+  package's models use the face's edges or vertices next to the node (\ref LapDefPolygons).
+
+Nothing else is used: the package constructs a model in place from `(tm, vpm)` and never copies,
+assigns or default-constructs it; it never compares, orders or hashes `node_descriptor`s (it
+only passes them back to `index()`, `combination()`, `neighbors()` and `fan_triangles()`); and the
+ranges are only traversed with a range-based `for`. The archetype test
+(`test/Laplacian_deformation/test_archetypes.cpp`) instantiates `Mesh_deformer`, `deform_mesh()`
+and `laplacian_matrix()` with a model that provides exactly this.
 
 Models are produced by a `DeformationRepresentation`: `Representation::Nodes<TriangleMesh, VertexPointMap>`.
 `CGAL::Laplacian_deformation::Mesh_deformer::nodes()` gives access to them after `preprocess()`

@@ -2,7 +2,7 @@
 \ingroup PkgLaplacianDeformationConcepts
 \cgalConcept
 
-@brief A representation decides which points of a triangle mesh carry Laplacian coordinates.
+@brief A representation decides which points of a mesh carry Laplacian coordinates.
 
 The deformation algorithm is written once, against nodes: points `x_a` that are fixed linear
 combinations of vertex positions, each with a cell (its neighbours `N(a)`) and a fan of
@@ -11,8 +11,9 @@ vertex point map type, its nested class template `Nodes` is a model of `Deformat
 `CGAL::Laplacian_deformation::Mesh_deformer`, `CGAL::Laplacian_deformation::deform_mesh()` and
 `CGAL::Laplacian_deformation::laplacian_matrix()` only name the type
 `Representation::Nodes<TriangleMesh, VertexPointMap>` and construct it from the mesh and its
-point map, so the representation itself is a stateless tag: it is never default-constructed by
-the package, and an instance passed to `laplacian_matrix()` only selects the type.
+point map, so the representation itself is a stateless tag: it is never default-constructed nor
+copied by the package, and an instance passed to `laplacian_matrix()` or `deform_mesh()` only
+selects the type.
 
 This is the one axis along which the vertex-based and the edge-based methods differ: weights,
 transforms, constraints and the solve are shared.
@@ -44,9 +45,10 @@ public:
 /// @{
 
   /*!
-  the nodes of this representation on a mesh of type `TriangleMesh` (a model of `FaceGraph`
-  whose faces are triangles) whose points are given by `VertexPointMap` (a readable property
-  map from the mesh's vertices to points of a \cgal kernel). It is a model of `DeformationNodes`.
+  the nodes of this representation on a mesh of type `TriangleMesh` (a model of `FaceGraph`;
+  the package's representations accept polygon faces, see \ref LapDefPolygons) whose points are
+  given by `VertexPointMap` (a readable property map from the mesh's vertices to points of a
+  \cgal kernel). It is a model of `DeformationNodes`.
   */
   template <class TriangleMesh, class VertexPointMap>
   using Nodes = unspecified_type;

@@ -17,7 +17,8 @@ maps (the paper's equation 7).
 The policy is called for every node that carries a row of the system, in parallel when the
 deformer's `ConcurrencyTag` allows it: `transform()` is `const` and must be safe to call
 concurrently. It is default-constructed once per deformer and should be stateless (an instance
-passed to `deform_mesh()` only selects the type). The first iteration after `preprocess()` or
+passed to `deform_mesh()` only selects the type); it need not be copyable or assignable, and it
+reads the cell only through the documented members of `Transform_cell`. The first iteration after `preprocess()` or
 `reset()` does not call it (it uses `T_a = I`). A returned matrix that is not finite is replaced
 by the identity. The map need not be a rotation, but the fit is to the cell, not to the
 Laplacian energy, so the energy is not guaranteed to decrease from one iteration to the next.

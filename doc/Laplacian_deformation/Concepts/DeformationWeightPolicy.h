@@ -17,7 +17,9 @@ of the kernel `GeomTraits` deduced from the vertex point map.
 The weights must be finite; they may be negative (as cotangent weights across obtuse angles).
 The package default-constructs the policy (`Mesh_deformer` and `deform_mesh()` use
 `WeightPolicy()`; an instance passed to `deform_mesh()` only selects the type), so a policy
-should be stateless; `laplacian_matrix()` uses the instance it is given.
+should be stateless; `laplacian_matrix()` uses the instance it is given. The policy need not be
+copyable or assignable (the package never copies it), and it only reads the cell through the
+documented members of `Node_cell`.
 
 \cgalRefines{DefaultConstructible}
 

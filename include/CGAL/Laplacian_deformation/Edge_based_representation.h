@@ -28,6 +28,13 @@ triangles are built from the faces around both endpoints: for each of the (up to
 `(i, k, l)` around `i` (likewise around `j`), the triangle `(m_e, m_ik, m_il)`, which is the face
 scaled by 1/2 about `p_i` once `m_e` replaces `p_i`'s role. In the interior every spoke lies in
 exactly two fan triangles, on the boundary in one.
+
+<b>Polygon faces.</b> The same rules hold on faces of any degree (see \ref LapDefPolygons): the
+cell of `e` is still every other edge incident to `i` or `j` (an edge of an incident face that
+touches neither endpoint is not a neighbour); a face containing `e` gives the triangle of `m_e` and
+the midpoints of the face's other edge at `i` and its other edge at `j`; any other face around
+`i` gives `(m_e, m_ik, m_il)` with `(i, k)` and `(i, l)` the face's two edges at `i`. On a
+triangle these are the triangle rules above, and the fan is closed in the same way.
 A mesh with `n` vertices has about `3n` edges, so the Laplacian coordinates are evaluated at
 about three times as many points as with `Vertex_based_representation`, and each row of the
 operator touches the one-rings of both endpoints.
@@ -98,9 +105,12 @@ struct Edge_based_representation
             f(e1, e2);                                        // (m_e, m_vk, m_vl)
           else if(target(endpoint, tm) == i)                  // a face containing e: once, from i
           {
-            // f = (s, i, t) with e = (s, i) or (i, t): the other edge at i, and the edge
-            // opposite to i, edge(prev(h)), which is incident to j
-            f(e1 == a ? e2 : e1, edge(prev(h, tm), tm));      // medial (m_e, m_ix, m_jx)
+            // f = (..., s, i, t, ...) with e = (s, i) or (i, t): the other edge of f at i, and
+            // the other edge of f at j (for a triangle both are the edge opposite to i)
+            if(e1 == a)                                       // j = s: the edge of f before s
+              f(e2, edge(prev(h, tm), tm));
+            else                                              // j = t: the edge of f after t
+              f(e1, edge(next(next(h, tm), tm), tm));         // medial (m_e, m_if, m_jf)
           }
         }
       }

@@ -91,7 +91,8 @@ two vertices (otherwise the view has parallel edges).
         `CGAL::Default` means `CGAL::GetVertexPointMap<FaceGraph>::const_type`
 \tparam EdgeIndexMap a readable property map from the edges of `FaceGraph` to a dense index;
         `CGAL::Default` means `CGAL::GetInitializedEdgeIndexMap<FaceGraph>::const_type`
-        (a dynamic index for a `Polyhedron_3` without ids, whose internal one is unusable in CGAL 5.5)
+        (a dynamic index for a `Polyhedron_3` without ids, whose internal one is unusable in CGAL 5.5,
+        and for a `Face_filtered_graph`, whose forwarded one is not dense over the selected edges)
 
 \cgalModels{VertexListGraph, IncidenceGraph, AdjacencyGraph, EdgeListGraph}
 */

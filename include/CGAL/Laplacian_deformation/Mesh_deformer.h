@@ -48,7 +48,7 @@ displacement of an iteration, relative to the ROI's bounding-box diagonal, is at
 A failed `preprocess()` or `deform()` leaves the mesh exactly as it was; its reason is in
 `last_result()`.
 
-\tparam TriangleMesh a model of `FaceGraph` whose faces are triangles
+\tparam TriangleMesh a model of `FaceGraph`; its faces may be polygons (see \ref LapDefPolygons)
 \tparam Representation a model of `DeformationRepresentation`; `CGAL::Default`: `Edge_based_representation`
 \tparam WeightPolicy a model of `DeformationWeightPolicy`; `CGAL::Default`: `Cotangent_weights`
 \tparam TransformPolicy a model of `DeformationTransformPolicy`; `CGAL::Default`: `Scaled_rotation_transform`

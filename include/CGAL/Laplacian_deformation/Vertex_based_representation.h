@@ -21,6 +21,9 @@ namespace Laplacian_deformation {
 
 The cell of vertex `v` is its one-ring: `N(v)` are the vertices adjacent to `v`, and its fan
 triangles are the faces `(v, k, l)` around `v`, as the triangles `(x_v, x_k, x_l)`.
+On a polygon face (see \ref LapDefPolygons) `k` and `l` are the two vertices of the face adjacent
+to `v`, so the face contributes its corner triangle at `v`; the other vertices of the face are not
+neighbours of `v`.
 The node graph is the mesh itself. Laplacian coordinates are evaluated at `n` points.
 
 \cgalModels{DeformationRepresentation}
@@ -76,7 +79,7 @@ struct Vertex_based_representation
       {
         if(is_border(h, *m_tm))
           continue;
-        // face (a, k, l) with h = (l -> a)
+        // face (a, k, ..., l) with h = (l -> a): its corner triangle at a
         f(target(next(h, *m_tm), *m_tm), source(h, *m_tm));
       }
     }

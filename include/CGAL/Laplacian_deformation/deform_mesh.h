@@ -11,10 +11,26 @@
 #include <CGAL/Named_function_parameters.h>
 #include <CGAL/boost/graph/named_params_helper.h>
 
+#include <functional>
 #include <iterator>
+#include <type_traits>
 
 namespace CGAL {
 namespace Laplacian_deformation {
+namespace internal {
+
+// CGAL's named parameters keep a non-copyable value as a std::reference_wrapper: the policy
+// concepts only require DefaultConstructible, so the looked-up type is unwrapped.
+template <class T>
+struct Unwrap_parameter { typedef T type; };
+template <class T>
+struct Unwrap_parameter<std::reference_wrapper<T> > { typedef std::remove_const_t<T> type; };
+
+template <class Tag, class NamedParameters, class Default>
+using Policy_parameter_t = typename Unwrap_parameter<
+    typename CGAL::internal_np::Lookup_named_param_def<Tag, NamedParameters, Default>::type>::type;
+
+} // namespace internal
 
 /*!
 \ingroup PkgLaplacianDeformationFunctions
@@ -28,7 +44,7 @@ Equivalent to a `Mesh_deformer` with the chosen policies, `insert_roi_vertices(r
 `deform(number_of_iterations, tolerance)`. On failure the mesh is left unchanged and the
 result says why.
 
-\tparam TriangleMesh a model of `FaceGraph` whose faces are triangles
+\tparam TriangleMesh a model of `FaceGraph`; its faces may be polygons (see \ref LapDefPolygons)
 \tparam VertexRange a range of `boost::graph_traits<TriangleMesh>::%vertex_descriptor`
 \tparam ControlRange a range of `boost::graph_traits<TriangleMesh>::%vertex_descriptor`
 \tparam PointRange a range of points, as many as `controls`
@@ -81,12 +97,12 @@ Deformation_result deform_mesh(TriangleMesh& tm, const VertexRange& roi, const C
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
   using CGAL::parameters::is_default_parameter;
-  typedef typename CGAL::internal_np::Lookup_named_param_def<
-      internal_np::representation_t, NamedParameters, Edge_based_representation>::type Representation;
-  typedef typename CGAL::internal_np::Lookup_named_param_def<
-      internal_np::weight_policy_t, NamedParameters, Cotangent_weights>::type Weights;
-  typedef typename CGAL::internal_np::Lookup_named_param_def<
-      internal_np::transform_policy_t, NamedParameters, Scaled_rotation_transform>::type Transform;
+  typedef internal::Policy_parameter_t<
+      internal_np::representation_t, NamedParameters, Edge_based_representation> Representation;
+  typedef internal::Policy_parameter_t<
+      internal_np::weight_policy_t, NamedParameters, Cotangent_weights> Weights;
+  typedef internal::Policy_parameter_t<
+      internal_np::transform_policy_t, NamedParameters, Scaled_rotation_transform> Transform;
   typedef typename CGAL::internal_np::Lookup_named_param_def<
       CGAL::internal_np::sparse_linear_solver_t, NamedParameters, Default_solver_traits>::type Solver;
   typedef typename CGAL::internal_np::Lookup_named_param_def<

@@ -60,7 +60,7 @@ Row `a` (in the representation's dense node index) gives the Laplacian coordinat
 as a linear combination of the vertex positions: `delta_a = sum_b w_ab (x_a - x_b) = (D p)_a`,
 with columns in the order of the vertex index map. `D` annihilates constant fields.
 
-\tparam TriangleMesh a model of `FaceGraph` whose faces are triangles
+\tparam TriangleMesh a model of `FaceGraph`; its faces may be polygons (see \ref LapDefPolygons)
 \tparam Representation a model of `DeformationRepresentation`
 \tparam WeightPolicy a model of `DeformationWeightPolicy`
 

@@ -26,6 +26,10 @@
 #include <type_traits>
 
 namespace CGAL {
+
+template <typename Graph, typename FIMap, typename VIMap, typename HIMap>
+struct Face_filtered_graph;
+
 namespace Laplacian_deformation {
 namespace internal {
 
@@ -182,6 +186,13 @@ template <class Gt, class I, template <class, class, class> class HDS, class A>
 struct Has_usable_internal_edge_index<CGAL::Polyhedron_3<Gt, I, HDS, A> >
   : std::integral_constant<bool,
       CGAL::internal::Has_member_id<typename CGAL::Polyhedron_3<Gt, I, HDS, A>::Halfedge>::value>
+{};
+
+// A `Face_filtered_graph` forwards the edge index of the underlying graph, which is not dense
+// over the selected edges (it runs up to the underlying graph's number of edges).
+template <class Graph, class FIMap, class VIMap, class HIMap>
+struct Has_usable_internal_edge_index<CGAL::Face_filtered_graph<Graph, FIMap, VIMap, HIMap> >
+  : std::false_type
 {};
 
 // The edge index map of the graph: the one of the named parameters, else CGAL's initialised
