@@ -145,6 +145,17 @@ for key, label in METRICS + [('preprocess_s', 'preprocess time'), ('iteration_s'
     default = [t for t, w, x in worse if w == 'cotangent' and x == 'sr1']
     p('| %s | %d | %d | %s |' % (label, len(worse), len(pairs), ', '.join(default) or '-'))
 p('')
+GEOMETRIC = [(k, l) for k, l in METRICS if k not in ('vertex_laplacian_error', 'edge_laplacian_error')]
+for w, x, label in (('cotangent', 'sr1', 'cotangent S*R1 (the paper\'s method)'), ('cotangent', 'rotation', 'cotangent rotation')):
+    losing = []
+    for t in tasks:
+        v, e = find(t, 'ours', 'vertex', w, x), find(t, 'ours', 'edge', w, x)
+        if v and e:
+            worse = [l for k, l in GEOMETRIC if number(e, k) > number(v, k)]
+            if 2 * len(worse) > len(GEOMETRIC):
+                losing.append('%s (%s)' % (t, ', '.join(worse)))
+    p('- With %s, the edge-based result is worse than the vertex-based one on most of the %d geometric '
+      'metrics (edge length, dihedral, normal, ARAP) on: %s.' % (label, len(GEOMETRIC), '; '.join(losing) or 'no task'))
 ratios = {key: [number(e, key) / number(v, key) for t, w, x, v, e in pairs if number(v, key) > 0]
           for key in ('preprocess_s', 'iteration_s', 'extra_rss_mb')}
 for key, label in (('preprocess_s', 'preprocess'), ('iteration_s', 'one iteration'), ('extra_rss_mb', 'memory growth')):
