@@ -1,17 +1,34 @@
-// Preprocess (operator, rows, factorisation) and one deform iteration (local step, right-hand
-// side, solve) of Mesh_deformer, vertex- vs edge-based, on CGAL's armadillo with the ROI = every
-// vertex but a fixed patch (the 2% lowest in y) and the 1% highest vertices as a moved handle.
-//   build/benchmark/Laplacian_deformation/bench_Mesh_deformer
+// Micro-benchmarks (Google Benchmark): preprocess (operator, rows, factorisation) and one deform
+// iteration (local step, right-hand side, solve; reported as counters in ms) of Mesh_deformer,
+// vertex- vs edge-based (cotangent weights, S*R1), next to CGAL's Surface_mesh_deformation
+// (ORIGINAL_ARAP, its default solver) on the same ROI, on CGAL's armadillo (level 0, 26k vertices)
+// and its Loop subdivisions (CGAL::Subdivision_method_3::Loop_subdivision: level 1 ~104k, level 2
+// ~416k vertices; computed once and cached as armadillo_loop<L>.off in the data folder).
+// ROIs: "all_but_2pct" = every vertex but the 2% lowest in y (fixed), "roi_10pct" = the 10%
+// highest in y; in both the 1% highest vertices are the handle, moved up by 5% of the height.
+//
+//   bench_Mesh_deformer [--levels=0,1] [Google Benchmark flags, e.g. --benchmark_format=json]
+//
+// Level 2 is slow (factorisations of a 416k-vertex system): it runs only when asked for.
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_deformation.h>
 #include <CGAL/boost/graph/IO/polygon_mesh_io.h>
+#include <CGAL/subdivision_method_3.h>
 #include <CGAL/Laplacian_deformation/Mesh_deformer.h>
 #include <CGAL/Laplacian_deformation/Vertex_based_representation.h>
 
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace LD = CGAL::Laplacian_deformation;
 typedef CGAL::Simple_cartesian<double> Kernel;
@@ -20,63 +37,188 @@ typedef boost::graph_traits<Mesh>::vertex_descriptor vertex_descriptor;
 
 namespace {
 
-const Mesh& armadillo()
+// the armadillo subdivided `level` times (cached in the data folder)
+const Mesh& armadillo(int level)
 {
-  static const Mesh mesh = [] {
-    Mesh m;
-    if(!CGAL::IO::read_polygon_mesh(std::string(LAPLACIAN_DEFORMATION_DATA_DIR) + "/armadillo.off", m))
-      throw std::runtime_error("cannot read armadillo.off: run scripts/setup.sh");
-    return m;
-  }();
-  return mesh;
+  static std::map<int, Mesh> meshes;
+  auto it = meshes.find(level);
+  if(it != meshes.end())
+    return it->second;
+  const std::string data(LAPLACIAN_DEFORMATION_DATA_DIR);
+  const std::string cached = data + "/armadillo_loop" + std::to_string(level) + ".off";
+  Mesh m;
+  if(level > 0 && std::filesystem::exists(cached) && CGAL::IO::read_polygon_mesh(cached, m) && !is_empty(m))
+    return meshes[level] = m;
+  if(!CGAL::IO::read_polygon_mesh(data + "/armadillo.off", m) || is_empty(m))
+    throw std::runtime_error("cannot read armadillo.off: run scripts/setup.sh");
+  if(level > 0)
+  {
+    CGAL::Subdivision_method_3::Loop_subdivision(m, CGAL::parameters::number_of_iterations(level));
+    const std::string tmp = cached + ".tmp";
+    if(CGAL::IO::write_polygon_mesh(tmp, m, CGAL::parameters::stream_precision(17)))
+      std::filesystem::rename(tmp, cached);
+  }
+  return meshes[level] = m;
 }
 
-template <class Deformer>
-void select(Deformer& d, const Mesh& m, std::vector<vertex_descriptor>& handle)
+struct Selection
+{
+  std::vector<vertex_descriptor> roi, handle;
+  double height = 0;
+};
+
+// roi_percent = 98: all but the 2% lowest; 10: the 10% highest. The handle: the 1% highest.
+Selection select(const Mesh& m, int roi_percent)
 {
   std::vector<vertex_descriptor> by_height(vertices(m).begin(), vertices(m).end());
   std::sort(by_height.begin(), by_height.end(),
             [&](vertex_descriptor a, vertex_descriptor b) { return m.point(a).y() < m.point(b).y(); });
-  const std::size_t fixed = by_height.size() / 50, moved = by_height.size() / 100;
-  d.insert_roi_vertices(by_height.begin() + long(fixed), by_height.end());
-  handle.assign(by_height.end() - long(moved), by_height.end());
-  d.insert_control_vertices(handle.begin(), handle.end());
+  Selection s;
+  const std::size_t n = by_height.size(), in_roi = n * std::size_t(roi_percent) / 100, moved = n / 100;
+  s.roi.assign(by_height.end() - long(in_roi), by_height.end());
+  s.handle.assign(by_height.end() - long(moved), by_height.end());
+  s.height = m.point(by_height.back()).y() - m.point(by_height.front()).y();
+  return s;
 }
 
 template <class Representation>
-void BM_preprocess(benchmark::State& state)
+struct Ours
 {
+  typedef LD::Mesh_deformer<Mesh, Representation> Deformer;
+  static constexpr bool split = true;
+  static void insert(Deformer& d, const Selection& s)
+  {
+    d.insert_roi_vertices(s.roi.begin(), s.roi.end());
+    d.insert_control_vertices(s.handle.begin(), s.handle.end());
+  }
+};
+
+struct Cgal_arap
+{
+  typedef CGAL::Surface_mesh_deformation<Mesh, CGAL::Default, CGAL::Default, CGAL::ORIGINAL_ARAP> Deformer;
+  static constexpr bool split = false;
+  static void insert(Deformer& d, const Selection& s)
+  {
+    d.insert_roi_vertices(s.roi.begin(), s.roi.end());
+    for(vertex_descriptor v : s.handle)
+      d.insert_control_vertex(v);
+  }
+};
+
+template <class Method>
+void BM_preprocess(benchmark::State& state, int level, int roi_percent)
+{
+  const Mesh& base = armadillo(level);
+  const Selection s = select(base, roi_percent);
   for(auto _ : state)
   {
-    Mesh m = armadillo();
-    LD::Mesh_deformer<Mesh, Representation> d(m);
-    std::vector<vertex_descriptor> handle;
-    select(d, m, handle);
+    state.PauseTiming();
+    Mesh m = base;
+    typename Method::Deformer d(m);
+    Method::insert(d, s);
+    state.ResumeTiming();
     if(!d.preprocess())
-      state.SkipWithError(d.last_result().message.c_str());
+      state.SkipWithError("preprocess failed");
   }
-  state.counters["vertices"] = double(num_vertices(armadillo()));
+  state.counters["vertices"] = double(num_vertices(base));
+  state.counters["roi"] = double(s.roi.size());
 }
 
-template <class Representation>
-void BM_iteration(benchmark::State& state)
+template <class Deformer>
+void record_split(const Deformer& d, double& local, double& rhs, double& solve)
 {
-  Mesh m = armadillo();
-  LD::Mesh_deformer<Mesh, Representation> d(m);
-  std::vector<vertex_descriptor> handle;
-  select(d, m, handle);
+  local += d.last_result().local_step_seconds;
+  rhs += d.last_result().right_hand_side_seconds;
+  solve += d.last_result().solve_seconds;
+}
+
+template <class Method>
+void BM_iteration(benchmark::State& state, int level, int roi_percent)
+{
+  const Mesh& base = armadillo(level);
+  const Selection s = select(base, roi_percent);
+  Mesh m = base;
+  typename Method::Deformer d(m);
+  Method::insert(d, s);
   if(!d.preprocess())
-    state.SkipWithError(d.last_result().message.c_str());
-  d.translate(handle.begin(), handle.end(), Kernel::Vector_3(0, 5, 0));
-  d.deform(1, 0.);                                 // the T = I start
+  {
+    state.SkipWithError("preprocess failed");
+    return;
+  }
+  for(vertex_descriptor v : s.handle)
+  {
+    const Kernel::Point_3& p = m.point(v);
+    d.set_target_position(v, Kernel::Point_3(p.x(), p.y() + 0.05 * s.height, p.z()));
+  }
+  d.deform(1, 0.);                                 // the T = I start (ours), first solve (CGAL)
+  double local = 0, rhs = 0, solve = 0;
   for(auto _ : state)
-    benchmark::DoNotOptimize(d.deform(1, 0.));    // local step + right-hand side + solve
+  {
+    d.deform(1, 0.);                              // local step + right-hand side + solve
+    if constexpr(Method::split)
+      record_split(d, local, rhs, solve);
+  }
+  if constexpr(Method::split)
+  {
+    state.counters["local_ms"] = benchmark::Counter(1e3 * local, benchmark::Counter::kAvgIterations);
+    state.counters["rhs_ms"] = benchmark::Counter(1e3 * rhs, benchmark::Counter::kAvgIterations);
+    state.counters["solve_ms"] = benchmark::Counter(1e3 * solve, benchmark::Counter::kAvgIterations);
+  }
+  state.counters["vertices"] = double(num_vertices(base));
+  state.counters["roi"] = double(s.roi.size());
+}
+
+template <class Method>
+void register_method(const std::string& name, int level)
+{
+  for(int roi_percent : {98, 10})
+  {
+    const std::string suffix = "/armadillo_loop" + std::to_string(level) + (roi_percent == 98 ? "/all_but_2pct" : "/roi_10pct");
+    auto* p = benchmark::RegisterBenchmark(("preprocess/" + name + suffix).c_str(),
+                                           [=](benchmark::State& st) { BM_preprocess<Method>(st, level, roi_percent); });
+    auto* i = benchmark::RegisterBenchmark(("iteration/" + name + suffix).c_str(),
+                                           [=](benchmark::State& st) { BM_iteration<Method>(st, level, roi_percent); });
+    p->Unit(benchmark::kMillisecond);
+    i->Unit(benchmark::kMillisecond);
+    if(level > 0)   // one factorisation takes seconds: few repetitions
+      p->Iterations(level > 1 ? 1 : 2);
+  }
 }
 
 } // namespace
 
-BENCHMARK_TEMPLATE(BM_preprocess, LD::Vertex_based_representation)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_preprocess, LD::Edge_based_representation)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_iteration, LD::Vertex_based_representation)->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_iteration, LD::Edge_based_representation)->Unit(benchmark::kMillisecond);
-BENCHMARK_MAIN();
+int main(int argc, char** argv)
+{
+  std::vector<int> levels = {0, 1};
+  std::vector<char*> args;
+  for(int i = 0; i < argc; ++i)
+  {
+    if(std::strncmp(argv[i], "--levels=", 9) == 0)
+    {
+      levels.clear();
+      std::stringstream list(argv[i] + 9);
+      for(std::string item; std::getline(list, item, ',');)
+      {
+        const int level = std::atoi(item.c_str());
+        if(item.empty() || level < 0 || level > 3)
+          return std::cerr << "error: --levels takes a comma-separated list of 0..3\n", 1;
+        levels.push_back(level);
+      }
+    }
+    else
+      args.push_back(argv[i]);
+  }
+  int count = int(args.size());
+  benchmark::Initialize(&count, args.data());
+  if(benchmark::ReportUnrecognizedArguments(count, args.data()))
+    return 1;
+  for(int level : levels)
+  {
+    register_method<Ours<LD::Vertex_based_representation> >("vertex", level);
+    register_method<Ours<LD::Edge_based_representation> >("edge", level);
+    register_method<Cgal_arap>("cgal_arap", level);
+  }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

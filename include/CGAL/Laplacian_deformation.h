@@ -23,5 +23,6 @@
 #include <CGAL/Laplacian_deformation/laplacian_matrix.h>
 #include <CGAL/Laplacian_deformation/Mesh_deformer.h>
 #include <CGAL/Laplacian_deformation/deform_mesh.h>
+#include <CGAL/Laplacian_deformation/metrics.h>
 
 #endif // CGAL_LAPLACIAN_DEFORMATION_H

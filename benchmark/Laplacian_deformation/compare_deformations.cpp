@@ -1,0 +1,412 @@
+// compare_deformations: the comparison harness. Runs every task with every representation x
+// weights x transform combination of Mesh_deformer and, in the same process on the same task
+// (ROI, handle, targets), CGAL's Surface_mesh_deformation (ORIGINAL_ARAP, SPOKES_AND_RIMS,
+// SRE_ARAP), all with the same number of iterations and tolerance 0; measures the quality
+// metrics of metrics.h and the timings; writes OUT/results.csv, OUT/results.md and, per task,
+// OUT/<task>/{rest,vertex,edge,cgal_arap}.ply (with a per-vertex `distortion`) and task.json.
+//
+//   compare_deformations [--iterations N] [--data DIR] OUT TASK_FILE...
+//
+// Each run is executed in a forked child process so that its peak memory can be measured: the
+// child reports VmHWM (the resident-set high-water mark of /proc/self/status) at the end of the
+// run, and the extra memory over its resident set at the start of the run (after fork the child
+// shares the parent's pages, so the extra is what the run itself allocated and touched).
+#include "deformation_task.h"
+
+#include <CGAL/Laplacian_deformation.h>
+#include <CGAL/Laplacian_deformation/metrics.h>
+#include <CGAL/Surface_mesh_deformation.h>
+
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace LD = CGAL::Laplacian_deformation;
+namespace fs = std::filesystem;
+using namespace Laplacian_deformation_benchmark;
+
+namespace {
+
+typedef std::chrono::steady_clock Clock;
+
+// what a child process sends back (trivially copyable)
+struct Record
+{
+  int ok = 0;
+  char message[240] = {0};
+  unsigned iterations = 0;
+  double preprocess_seconds = 0;
+  double iteration_seconds = 0, local_step_seconds = 0, right_hand_side_seconds = 0, solve_seconds = 0;  // per iteration
+  double peak_rss_mb = 0, extra_rss_mb = 0;
+  LD::Deformation_quality quality;
+};
+
+struct Method
+{
+  std::string method, representation, weights, transform, panel;   // panel: PLY name of a default combination
+  std::function<bool(const Task&, unsigned, Mesh&, Record&)> run;
+};
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void set_message(Record& r, const std::string& m) { std::snprintf(r.message, sizeof(r.message), "%s", m.c_str()); }
+
+template <class Representation, class Weights, class Transform>
+bool run_ours(const Task& task, unsigned iterations, Mesh& m, Record& r)
+{
+  m = task.mesh;
+  LD::Mesh_deformer<Mesh, Representation, Weights, Transform> d(m);
+  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  d.insert_control_vertices(task.handle.begin(), task.handle.end());
+  const Clock::time_point t0 = Clock::now();
+  if(!d.preprocess())
+    return set_message(r, d.last_result().message), false;
+  r.preprocess_seconds = seconds_since(t0);
+  for(std::size_t i = 0; i < task.handle.size(); ++i)
+    d.set_target_position(task.handle[i], task.targets[i]);
+  for(unsigned it = 0; it < iterations; ++it)
+  {
+    const LD::Deformation_result result = d.deform(1, 0.);
+    if(!result)
+      return set_message(r, result.message), false;
+    r.iteration_seconds += result.seconds;
+    r.local_step_seconds += result.local_step_seconds;
+    r.right_hand_side_seconds += result.right_hand_side_seconds;
+    r.solve_seconds += result.solve_seconds;
+    ++r.iterations;
+  }
+  return true;
+}
+
+template <CGAL::Deformation_algorithm_tag Tag>
+bool run_cgal(const Task& task, unsigned iterations, Mesh& m, Record& r)
+{
+  m = task.mesh;
+  CGAL::Surface_mesh_deformation<Mesh, CGAL::Default, CGAL::Default, Tag> d(m);
+  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  for(vertex_descriptor v : task.handle)
+    d.insert_control_vertex(v);
+  const Clock::time_point t0 = Clock::now();
+  if(!d.preprocess())
+    return set_message(r, "CGAL's preprocess() failed"), false;
+  r.preprocess_seconds = seconds_since(t0);
+  for(std::size_t i = 0; i < task.handle.size(); ++i)
+    d.set_target_position(task.handle[i], task.targets[i]);
+  for(unsigned it = 0; it < iterations; ++it)
+  {
+    const Clock::time_point t1 = Clock::now();
+    d.deform(1, 0.);
+    r.iteration_seconds += seconds_since(t1);
+    ++r.iterations;
+  }
+  return true;
+}
+
+template <class Representation, class Weights>
+void add_transforms(std::vector<Method>& methods, const std::string& representation, const std::string& weights)
+{
+  const std::string panel = weights == "cotangent" ? representation : std::string();
+  methods.push_back({"ours", representation, weights, "fixed", "", run_ours<Representation, Weights, LD::Fixed_transform>});
+  methods.push_back({"ours", representation, weights, "rotation", "", run_ours<Representation, Weights, LD::Rotation_transform>});
+  methods.push_back({"ours", representation, weights, "similarity", "", run_ours<Representation, Weights, LD::Similarity_transform>});
+  methods.push_back({"ours", representation, weights, "sr1", panel, run_ours<Representation, Weights, LD::Scaled_rotation_transform>});
+  methods.push_back({"ours", representation, weights, "principal", "", run_ours<Representation, Weights, LD::Principal_scaled_rotation_transform>});
+  methods.push_back({"ours", representation, weights, "rsr", "", run_ours<Representation, Weights, LD::Rotation_scale_rotation_transform>});
+}
+
+std::vector<Method> all_methods()
+{
+  std::vector<Method> methods;
+  add_transforms<LD::Vertex_based_representation, LD::Uniform_weights>(methods, "vertex", "uniform");
+  add_transforms<LD::Vertex_based_representation, LD::Cotangent_weights>(methods, "vertex", "cotangent");
+  add_transforms<LD::Edge_based_representation, LD::Uniform_weights>(methods, "edge", "uniform");
+  add_transforms<LD::Edge_based_representation, LD::Cotangent_weights>(methods, "edge", "cotangent");
+  methods.push_back({"cgal", "vertex", "cotangent", "ORIGINAL_ARAP", "cgal_arap", run_cgal<CGAL::ORIGINAL_ARAP>});
+  methods.push_back({"cgal", "vertex", "cotangent", "SPOKES_AND_RIMS", "", run_cgal<CGAL::SPOKES_AND_RIMS>});
+  methods.push_back({"cgal", "vertex", "cotangent", "SRE_ARAP", "", run_cgal<CGAL::SRE_ARAP>});
+  return methods;
+}
+
+double status_megabytes(const char* key)
+{
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while(std::getline(in, line))
+    if(line.compare(0, std::strlen(key), key) == 0)
+      return std::atof(line.c_str() + std::strlen(key)) / 1024.;   // kB
+  return 0;
+}
+
+bool write_ply(const fs::path& path, const Mesh& m, const std::vector<double>& distortion)
+{
+  std::ofstream out(path);
+  out << "ply\nformat ascii 1.0\nelement vertex " << num_vertices(m)
+      << "\nproperty float x\nproperty float y\nproperty float z\nproperty float distortion\nelement face "
+      << num_faces(m) << "\nproperty list uchar int vertex_indices\nend_header\n";
+  out << std::setprecision(9);
+  for(vertex_descriptor v : vertices(m))
+    out << m.point(v).x() << ' ' << m.point(v).y() << ' ' << m.point(v).z() << ' ' << distortion[v] << '\n';
+  for(auto f : faces(m))
+  {
+    out << 3;
+    for(vertex_descriptor v : CGAL::vertices_around_face(halfedge(f, m), m))
+      out << ' ' << std::size_t(v);
+    out << '\n';
+  }
+  return bool(out);
+}
+
+// runs `method` in a child process; the child writes the PLY of a default combination
+Record run_in_child(const Method& method, const Task& task, unsigned iterations, const fs::path& task_dir)
+{
+  Record r;
+  int fds[2];
+  if(pipe(fds) != 0)
+    return set_message(r, "pipe() failed"), r;
+  std::cout.flush();
+  std::cerr.flush();
+  const pid_t pid = fork();
+  if(pid < 0)
+    return set_message(r, "fork() failed"), r;
+  if(pid == 0)
+  {
+    close(fds[0]);
+    Record c;
+    const double baseline = status_megabytes("VmRSS:");
+    Mesh m;
+    c.ok = method.run(task, iterations, m, c) ? 1 : 0;
+    c.peak_rss_mb = status_megabytes("VmHWM:");
+    c.extra_rss_mb = c.peak_rss_mb - baseline;
+    if(c.ok)
+    {
+      c.quality = LD::deformation_quality(m, get(CGAL::vertex_point, task.mesh), task.roi);
+      std::vector<std::pair<vertex_descriptor, Point_3> > controls;
+      for(std::size_t i = 0; i < task.handle.size(); ++i)
+        controls.emplace_back(task.handle[i], task.targets[i]);
+      c.quality.max_constraint_residual = LD::constraint_residual(m, get(CGAL::vertex_point, task.mesh), controls);
+      if(c.iterations)
+      {
+        c.iteration_seconds /= c.iterations;
+        c.local_step_seconds /= c.iterations;
+        c.right_hand_side_seconds /= c.iterations;
+        c.solve_seconds /= c.iterations;
+      }
+      if(!method.panel.empty())
+      {
+        std::vector<double> field(num_vertices(m), 0.);
+        LD::vertex_distortion_field(m, get(CGAL::vertex_point, task.mesh), CGAL::make_property_map(field));
+        if(!write_ply(task_dir / (method.panel + ".ply"), m, field))
+          c.ok = 0, set_message(c, "cannot write " + (task_dir / (method.panel + ".ply")).string());
+      }
+    }
+    const char* p = reinterpret_cast<const char*>(&c);
+    std::size_t left = sizeof(c);
+    while(left > 0)
+    {
+      const ssize_t n = write(fds[1], p, left);
+      if(n <= 0)
+        break;
+      p += n;
+      left -= std::size_t(n);
+    }
+    close(fds[1]);
+    _exit(0);
+  }
+  close(fds[1]);
+  char* p = reinterpret_cast<char*>(&r);
+  std::size_t got = 0;
+  while(got < sizeof(r))
+  {
+    const ssize_t n = read(fds[0], p + got, sizeof(r) - got);
+    if(n <= 0)
+      break;
+    got += std::size_t(n);
+  }
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if(got != sizeof(r))
+  {
+    r = Record();
+    set_message(r, WIFSIGNALED(status) ? "the run crashed (signal " + std::to_string(WTERMSIG(status)) + ")"
+                                       : std::string("the run reported nothing"));
+  }
+  return r;
+}
+
+std::string json_string(const std::string& s)
+{
+  std::string out = "\"";
+  for(char c : s)
+  {
+    if(c == '"' || c == '\\')
+      out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string fixed(double x, int digits)
+{
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << x;
+  return s.str();
+}
+
+std::string general(double x)
+{
+  std::ostringstream s;
+  s << std::setprecision(3) << x;
+  return s.str();
+}
+
+int usage(std::ostream& out, int code)
+{
+  out << "usage: compare_deformations [--iterations N] [--data DIR] OUT TASK_FILE...\n"
+         "  Runs every task (benchmark/Laplacian_deformation/tasks/*.task) with every representation x\n"
+         "  weights x transform of Mesh_deformer and CGAL's Surface_mesh_deformation (ORIGINAL_ARAP,\n"
+         "  SPOKES_AND_RIMS, SRE_ARAP), N iterations each (default 10) with tolerance 0, and writes\n"
+         "  OUT/results.csv, OUT/results.md and OUT/<task>/{rest,vertex,edge,cgal_arap}.ply + task.json.\n"
+         "  DIR: the folder of the real meshes (default: the one configured at build time).\n";
+  return code;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  unsigned iterations = 10;
+  std::string data_dir = LAPLACIAN_DEFORMATION_DATA_DIR;
+  std::vector<std::string> positional;
+  for(int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    if(a == "--help" || a == "-h")
+      return usage(std::cout, EXIT_SUCCESS);
+    if(a == "--iterations" && i + 1 < argc)
+    {
+      const int n = std::atoi(argv[++i]);
+      if(n <= 0)
+        return std::cerr << "error: --iterations needs a positive number\n", EXIT_FAILURE;
+      iterations = unsigned(n);
+    }
+    else if(a == "--data" && i + 1 < argc)
+      data_dir = argv[++i];
+    else if(!a.empty() && a[0] == '-')
+      return usage(std::cerr, EXIT_FAILURE);
+    else
+      positional.push_back(a);
+  }
+  if(positional.size() < 2)
+    return usage(std::cerr, EXIT_FAILURE);
+  const fs::path out_dir = positional[0];
+
+  // read every task first: a bad task file stops the harness before anything is written
+  std::vector<Task> tasks(positional.size() - 1);
+  for(std::size_t t = 0; t + 1 < positional.size(); ++t)
+  {
+    std::string error;
+    if(!read_task(positional[t + 1], data_dir, tasks[t], error))
+      return std::cerr << "error: " << error << std::endl, EXIT_FAILURE;
+  }
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if(ec)
+    return std::cerr << "error: cannot create " << out_dir << ": " << ec.message() << std::endl, EXIT_FAILURE;
+
+  const std::vector<Method> methods = all_methods();
+  std::ofstream csv(out_dir / "results.csv");
+  std::ofstream md(out_dir / "results.md");
+  csv << "task,vertices,roi,handle,method,representation,weights,transform,status,iterations,"
+         "preprocess_s,iteration_s,local_step_s,right_hand_side_s,solve_s,peak_rss_mb,extra_rss_mb,"
+         "vertex_laplacian_error,edge_laplacian_error,edge_length_mean,edge_length_max,"
+         "dihedral_change_mean_deg,dihedral_change_max_deg,normal_deviation_mean_deg,normal_deviation_max_deg,"
+         "arap_energy,constraint_residual\n";
+  csv << std::setprecision(6);
+  md << "# Deformation comparison\n\n"
+     << "Every task with every representation x weights x transform of `Mesh_deformer` (hard constraints) and "
+        "CGAL's `Surface_mesh_deformation` (ORIGINAL_ARAP, SPOKES_AND_RIMS, SRE_ARAP; its default solver), "
+     << iterations << " iterations each with tolerance 0 (our `deform(1, 0)` / CGAL's `deform(1, 0)` called "
+     << iterations << " times), each run in its own forked process.\n\n"
+     << "Columns: prep = `preprocess()` (ms); iter = mean wall time of one iteration (ms), split for ours into "
+        "local step / right-hand side / solve; peak = VmHWM of the run's process (MB) and, in parentheses, its "
+        "growth during the run; Lv, Le = relative vertex- and edge-based Laplacian-coordinate errors; edge = "
+        "edge-length distortion mean / max; dihedral = dihedral-angle change mean / max (degrees); normal = "
+        "face-normal deviation after each 1-ring's best rotation mean / max (degrees); ARAP = normalised "
+        "cotangent ARAP energy; res = constraint residual / bounding-box diagonal (see metrics.h).\n";
+
+  for(const Task& task : tasks)
+  {
+    const fs::path task_dir = out_dir / task.name;
+    fs::create_directories(task_dir, ec);
+    {
+      std::vector<double> zero(num_vertices(task.mesh), 0.);
+      write_ply(task_dir / "rest.ply", task.mesh, zero);
+      std::ofstream json(task_dir / "task.json");
+      json << "{\"task\": " << json_string(task.name) << ", \"title\": " << json_string(task.title)
+           << ", \"field\": \"one_ring_rigidity_error\", \"panels\": [\"rest\", \"vertex\", \"edge\", \"cgal_arap\"]}\n";
+    }
+    md << "\n## " << task.title << " (`" << task.name << "`)\n\n"
+       << "Mesh `" << task.mesh_description << "`: " << num_vertices(task.mesh) << " vertices, ROI "
+       << task.roi.size() << " vertices, handle " << task.handle.size() << " vertices.\n\n"
+       << "| method | weights | transform | prep ms | iter ms (local / rhs / solve) | peak MB | Lv | Le | edge | dihedral | normal | ARAP | res |\n"
+       << "|---|---|---|---:|---|---:|---:|---:|---|---|---|---:|---:|\n";
+    for(const Method& method : methods)
+    {
+      std::cerr << task.name << ": " << method.method << " " << method.representation << " " << method.weights << " "
+                << method.transform << std::endl;
+      const Record r = run_in_child(method, task, iterations, task_dir);
+      const LD::Deformation_quality& q = r.quality;
+      csv << task.name << ',' << num_vertices(task.mesh) << ',' << task.roi.size() << ',' << task.handle.size() << ','
+          << method.method << ',' << method.representation << ',' << method.weights << ',' << method.transform << ','
+          << (r.ok ? "ok" : "failed") << ',' << r.iterations << ',' << r.preprocess_seconds << ',' << r.iteration_seconds
+          << ',';
+      if(method.method == "ours")
+        csv << r.local_step_seconds << ',' << r.right_hand_side_seconds << ',' << r.solve_seconds << ',';
+      else
+        csv << ",,,";
+      csv << r.peak_rss_mb << ',' << r.extra_rss_mb << ',' << q.vertex_laplacian_error << ',' << q.edge_laplacian_error
+          << ',' << q.mean_edge_length_distortion << ',' << q.max_edge_length_distortion << ','
+          << q.mean_dihedral_angle_change << ',' << q.max_dihedral_angle_change << ',' << q.mean_normal_deviation << ','
+          << q.max_normal_deviation << ',' << q.arap_energy << ',' << q.max_constraint_residual << '\n';
+      const std::string name = method.method == "cgal" ? "CGAL" : method.representation;
+      md << "| " << name << " | " << (method.method == "cgal" ? "cotangent" : method.weights) << " | "
+         << method.transform << " | ";
+      if(!r.ok)
+      {
+        md << "failed: " << r.message << " | | | | | | | | | |\n";
+        std::cerr << "  failed: " << r.message << std::endl;
+        continue;
+      }
+      md << fixed(1e3 * r.preprocess_seconds, 1) << " | " << fixed(1e3 * r.iteration_seconds, 2);
+      if(method.method == "ours")
+        md << " (" << fixed(1e3 * r.local_step_seconds, 2) << " / " << fixed(1e3 * r.right_hand_side_seconds, 2) << " / "
+           << fixed(1e3 * r.solve_seconds, 2) << ")";
+      md << " | " << fixed(r.peak_rss_mb, 0) << " (+" << fixed(r.extra_rss_mb, 0) << ") | "
+         << general(q.vertex_laplacian_error) << " | " << general(q.edge_laplacian_error) << " | "
+         << general(q.mean_edge_length_distortion) << " / " << general(q.max_edge_length_distortion) << " | "
+         << fixed(q.mean_dihedral_angle_change, 2) << " / " << fixed(q.max_dihedral_angle_change, 1) << " | "
+         << fixed(q.mean_normal_deviation, 2) << " / " << fixed(q.max_normal_deviation, 1) << " | "
+         << general(q.arap_energy) << " | " << general(q.max_constraint_residual) << " |\n";
+    }
+  }
+  csv.close();
+  md.close();
+  if(!csv || !md)
+    return std::cerr << "error: cannot write the results into " << out_dir << std::endl, EXIT_FAILURE;
+  std::cout << "wrote " << (out_dir / "results.csv").string() << " and " << (out_dir / "results.md").string() << std::endl;
+  return EXIT_SUCCESS;
+}
