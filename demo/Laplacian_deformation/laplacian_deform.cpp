@@ -70,8 +70,13 @@ std::string run_lines(const Run_record& r)
       << " s, energy " << r.iterations[k].energy << ", change " << r.iterations[k].change << '\n';
   s << "result      " << r.iterations.size() << " iteration" << (r.iterations.size() == 1 ? "" : "s") << " in "
     << r.deform_seconds << " s, energy " << r.energy << ", largest handle distance to target "
-    << r.max_handle_distance << "\nquality     relative edge-length change over the deformed region: mean "
-    << r.mean_edge_distortion << ", max " << r.max_edge_distortion << '\n';
+    << r.max_handle_distance << '\n';
+  const LD::Deformation_quality& q = r.quality;
+  s << "quality     over the deformed region (metrics.h): edge-length change mean " << q.mean_edge_length_distortion
+    << ", max " << q.max_edge_length_distortion << "; dihedral change (deg) mean " << q.mean_dihedral_angle_change
+    << ", max " << q.max_dihedral_angle_change << "; normal deviation after the best one-ring rotation (deg) mean "
+    << q.mean_normal_deviation << ", max " << q.max_normal_deviation << "; Laplacian error vertex "
+    << q.vertex_laplacian_error << ", edge " << q.edge_laplacian_error << "; ARAP energy " << q.arap_energy << '\n';
   return s.str();
 }
 
@@ -95,8 +100,15 @@ std::string comparison_table(const Run_record runs[2])
   row("iterations", [](const Run_record& r) { return r.iterations.size(); });
   row("energy", [](const Run_record& r) { return r.energy; });
   row("handle distance", [](const Run_record& r) { return r.max_handle_distance; });
-  row("edge dist mean", [](const Run_record& r) { return r.mean_edge_distortion; });
-  row("edge dist max", [](const Run_record& r) { return r.max_edge_distortion; });
+  row("edge dist mean", [](const Run_record& r) { return r.quality.mean_edge_length_distortion; });
+  row("edge dist max", [](const Run_record& r) { return r.quality.max_edge_length_distortion; });
+  row("dihedral mean deg", [](const Run_record& r) { return r.quality.mean_dihedral_angle_change; });
+  row("dihedral max deg", [](const Run_record& r) { return r.quality.max_dihedral_angle_change; });
+  row("normal mean deg", [](const Run_record& r) { return r.quality.mean_normal_deviation; });
+  row("normal max deg", [](const Run_record& r) { return r.quality.max_normal_deviation; });
+  row("Laplacian err (v)", [](const Run_record& r) { return r.quality.vertex_laplacian_error; });
+  row("Laplacian err (e)", [](const Run_record& r) { return r.quality.edge_laplacian_error; });
+  row("ARAP energy", [](const Run_record& r) { return r.quality.arap_energy; });
   return s.str();
 }
 
@@ -112,7 +124,15 @@ nlohmann::json run_json(const Run_record& r)
           {"preprocess_seconds", r.preprocess_seconds}, {"deform_seconds", r.deform_seconds},
           {"iterations", iterations}, {"energy", r.energy}, {"last_change", r.last_change},
           {"max_constraint_residual", r.max_constraint_residual}, {"max_handle_distance", r.max_handle_distance},
-          {"edge_length_distortion", {{"mean", r.mean_edge_distortion}, {"max", r.max_edge_distortion}}}};
+          {"quality", {{"vertex_laplacian_error", r.quality.vertex_laplacian_error},
+                       {"edge_laplacian_error", r.quality.edge_laplacian_error},
+                       {"edge_length_distortion", {{"mean", r.quality.mean_edge_length_distortion},
+                                                   {"max", r.quality.max_edge_length_distortion}}},
+                       {"dihedral_angle_change_degrees", {{"mean", r.quality.mean_dihedral_angle_change},
+                                                          {"max", r.quality.max_dihedral_angle_change}}},
+                       {"normal_deviation_degrees", {{"mean", r.quality.mean_normal_deviation},
+                                                     {"max", r.quality.max_normal_deviation}}},
+                       {"arap_energy", r.quality.arap_energy}}}};
 }
 
 int run_tool(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)

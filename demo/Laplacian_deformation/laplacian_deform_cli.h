@@ -17,6 +17,7 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 #include <CGAL/Laplacian_deformation/Deformation_result.h>
 #include <CGAL/Laplacian_deformation/IO/Botsch08.h>
+#include <CGAL/Laplacian_deformation/metrics.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -853,31 +854,21 @@ struct Run_record
   std::size_t row_nodes = 0, factorizations = 0;
   std::vector<Iteration_record> iterations;
   double energy = 0, last_change = 0, max_constraint_residual = 0, max_handle_distance = 0;
-  double mean_edge_distortion = 0, max_edge_distortion = 0;
+  LD::Deformation_quality quality;     // metrics.h, over the non-fixed vertices
   Mesh mesh;
   std::string name() const { return representation + "-based"; }
 };
 
-/// relative length change of every edge with a non-fixed endpoint, and the largest distance
-/// between a handle and its target
+/// the quality metrics of metrics.h over the non-fixed vertices (region of interest and handles),
+/// and the largest distance between a handle and its target
 inline void measure(const Task& task, Run_record& run)
 {
-  std::size_t count = 0;
-  run.mean_edge_distortion = run.max_edge_distortion = 0;
-  for(auto e : edges(task.mesh))
-  {
-    const vertex_descriptor a = source(e, task.mesh), b = target(e, task.mesh);
-    if(task.status[a] == LD::IO::BOTSCH08_FIXED && task.status[b] == LD::IO::BOTSCH08_FIXED)
-      continue;
-    const double l0 = std::sqrt(CGAL::squared_distance(task.mesh.point(a), task.mesh.point(b)));
-    const double l1 = std::sqrt(CGAL::squared_distance(run.mesh.point(a), run.mesh.point(b)));
-    const double d = l0 > 0 ? std::abs(l1 - l0) / l0 : 0.;
-    run.mean_edge_distortion += d;
-    run.max_edge_distortion = (std::max)(run.max_edge_distortion, d);
-    ++count;
-  }
-  if(count)
-    run.mean_edge_distortion /= double(count);
+  std::vector<vertex_descriptor> region;
+  for(vertex_descriptor v : vertices(task.mesh))
+    if(task.status[v] != LD::IO::BOTSCH08_FIXED)
+      region.push_back(v);
+  // run.mesh is a copy of task.mesh: same vertex indices, so the task's points are the rest map
+  run.quality = LD::deformation_quality(run.mesh, get(CGAL::vertex_point, task.mesh), region);
   run.max_handle_distance = 0;
   for(vertex_descriptor v : vertices(task.mesh))
     if(task.status[v] == LD::IO::BOTSCH08_HANDLE)
