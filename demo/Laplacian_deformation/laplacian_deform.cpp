@@ -10,6 +10,7 @@
 #include <CGAL/Laplacian_deformation/Mesh_deformer.h>
 #include <CGAL/Laplacian_deformation/Vertex_based_representation.h>
 #include <CGAL/Laplacian_deformation/IO/Botsch08.h>
+#include "deformation_server.h"
 
 #include <chrono>
 #include <cstdio>
@@ -128,6 +129,10 @@ int usage(std::ostream& out, int code)
 
 int main(int argc, char** argv)
 {
+  // laplacian_deform --serve [MESH] [--port N] [--output DIR]: the browser editor (deformation_server.h)
+  if(argc >= 2 && std::string(argv[1]) == "--serve")
+    return Laplacian_deformation_server::serve_main(argc, argv, LAPLACIAN_DEFORMATION_DATA_DIR,
+                                                    LAPLACIAN_DEFORMATION_VIEWER_DIR);
   if(argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h"))
     return usage(std::cout, EXIT_SUCCESS);
   if(argc != 1 && argc != 4 && argc != 5)
