@@ -516,6 +516,18 @@ private:
       throw Request_error{400, name + ": more than " + std::to_string(m_options.max_vertices) + " vertices"};
     if(m.has_garbage())
       m.collect_garbage();
+    // only the geometry: colours or normals read with the file would go into the downloads
+    Mesh clean;
+    for(vertex_descriptor v : m.vertices())
+      clean.add_vertex(m.point(v));
+    for(auto f : m.faces())
+    {
+      std::vector<vertex_descriptor> corners;
+      for(vertex_descriptor v : CGAL::vertices_around_face(m.halfedge(f), m))
+        corners.push_back(v);
+      clean.add_face(corners);
+    }
+    m = std::move(clean);
     stem = file.stem().string();
     if(!internal::is_plain_name(stem, false))
       stem = "mesh";

@@ -237,7 +237,7 @@ TEST_F(Server_test, downloads_and_saves)
   Eigen::Matrix4d t;
   ASSERT_TRUE(LD::IO::read_botsch08_transform(def, t, message)) << message;
   EXPECT_DOUBLE_EQ(t(2, 3), 0.25);
-  EXPECT_TRUE(t.topLeftCorner<3, 3>().isIdentity(1e-15));
+  EXPECT_TRUE((t.topLeftCorner<3, 3>().isIdentity(1e-15)));
 
   // save: only under the output folder, and only plain names
   for(const char* bad : {"../evil", "/tmp/evil", "a/b", "", ".hidden"})
