@@ -257,7 +257,8 @@ async function changePolicy() {
     const body = { session: state.session };
     for(const key of ['representation', 'weights', 'transform']) body[key] = $(key).value;
     const reply = await api('/api/policy', body);
-    if(reply.seconds !== undefined) { setPositionsFromReply(reply); showTiming(reply); ++state.updates; state.lastReply = reply; }
+    // a selection painted since the last drag is sent at the next drag: until then the mesh stays at rest
+    if(reply.seconds !== undefined && !state.selectionDirty) { setPositionsFromReply(reply); showTiming(reply); ++state.updates; state.lastReply = reply; }
     message('');
   } catch(e) { message(e.message); }
 }
