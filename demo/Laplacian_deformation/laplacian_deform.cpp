@@ -329,10 +329,15 @@ int run_tool(const std::vector<std::string>& args, std::ostream& out, std::ostre
 
 } // namespace
 
+int laplacian_deform_serve(int argc, char** argv);   // laplacian_deform_serve.cpp
+
 int main(int argc, char** argv)
 {
   try
   {
+    // laplacian_deform --serve [MESH] [--port N] [--output DIR]: the browser editor
+    if(argc >= 2 && std::string(argv[1]) == "--serve")
+      return laplacian_deform_serve(argc, argv);
     return run_tool(std::vector<std::string>(argv + 1, argv + argc), std::cout, std::cerr);
   }
   catch(const std::exception& e)

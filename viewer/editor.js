@@ -1,0 +1,305 @@
+// The interactive editor of `laplacian_deform --serve`: paint the region of interest and the
+// handle, drag the handle (translate; Ctrl or Alt: rotate about the view axis) and watch the
+// deformation computed by the C++ server (one Mesh_deformer per session, factored once per
+// selection). Reuses the viewer's modules: PanelView (camera, orbit controls, picking) and
+// createFieldMesh / setPositions. The JSON API is described in the user manual.
+import * as THREE from 'three';
+import { PanelView } from './lib/panels.js';
+import { createFieldMesh, setPositions } from './lib/mesh.js';
+
+const $ = (id) => document.getElementById(id);
+const COLORS = [new THREE.Color(0xb8bcc4), new THREE.Color(0xe8c547), new THREE.Color(0xd7263d)];
+const FIXED = 0, ROI = 1, HANDLE = 2;
+
+const state = {
+  session: null, mesh: null, n: 0, rest: null, faces: null, neighbours: null,
+  status: null,            // per vertex: FIXED, ROI or HANDLE (as painted)
+  selectionDirty: true,    // painted since the last POST /api/select
+  mode: 'roi',
+  transform: new THREE.Matrix4(),   // the handle's motion from rest (sent as rotation + translation)
+  inFlight: false, pending: null, updates: 0, lastReply: null, busy: Promise.resolve(),
+};
+
+function message(text) { $('message').textContent = text || ''; }
+
+async function api(path, body) {
+  const response = await fetch(path, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
+  const reply = await response.json();
+  if(!response.ok) throw new Error(reply.error || `${path}: HTTP ${response.status}`);
+  return reply;
+}
+
+const view = new PanelView($('panels'), { background: '#ffffff', captionPosition: 'bottom' });
+// Left button edits; right button turns (shift: pans), middle and wheel zoom.
+view.controls.mouseButtons = { LEFT: null, MIDDLE: THREE.MOUSE.DOLLY, RIGHT: THREE.MOUSE.ROTATE };
+
+function neighbourLists(n, faces) {
+  const sets = Array.from({ length: n }, () => new Set());
+  for(let f = 0; f < faces.length; f += 3)
+    for(let k = 0; k < 3; ++k) {
+      const a = faces[f + k], b = faces[f + (k + 1) % 3];
+      sets[a].add(b); sets[b].add(a);
+    }
+  return sets.map((s) => Int32Array.from(s));
+}
+
+/** The vertices within k rings of v. */
+function kRing(v, k) {
+  const seen = new Set([v]);
+  let front = [v];
+  for(let r = 0; r < k; ++r) {
+    const next = [];
+    for(const u of front) for(const w of state.neighbours[u]) if(!seen.has(w)) { seen.add(w); next.push(w); }
+    front = next;
+  }
+  return [...seen];
+}
+
+function recolor() {
+  const color = state.mesh.geometry.getAttribute('color');
+  for(let v = 0; v < state.n; ++v) COLORS[state.status[v]].toArray(color.array, 3 * v);
+  color.needsUpdate = true;
+  let roi = 0, handles = 0;
+  for(const s of state.status) { roi += s === ROI; handles += s === HANDLE; }
+  $('counts').textContent = `${state.n} vertices, ROI ${roi}, handles ${handles}`;
+  view.requestRender();
+}
+
+function updateDownloads() {
+  for(const format of ['off', 'ply', 'sel', 'def'])
+    $(`dl-${format}`).href = `/api/download?session=${state.session}&format=${format}`;
+}
+
+async function openMesh(name) {
+  const reply = await api('/api/session', { mesh: name });
+  state.session = reply.session;
+  state.n = reply.vertices.length / 3;
+  state.rest = Float64Array.from(reply.vertices);
+  state.faces = reply.faces;
+  state.neighbours = neighbourLists(state.n, reply.faces);
+  state.status = new Uint8Array(state.n);
+  state.selectionDirty = true;
+  state.transform.identity();
+  state.updates = 0;
+  state.lastReply = null;
+  for(const key of ['representation', 'weights', 'transform']) $(key).value = reply.policy[key];
+  state.mesh = createFieldMesh({ positions: reply.vertices, indices: reply.faces, field: new Float32Array(state.n) },
+                               { min: 0, max: 1 });
+  view.setPanels([{ title: reply.mesh === 'default' ? 'default mesh' : reply.mesh, object: state.mesh }]);
+  view.fitCamera();
+  recolor();
+  updateDownloads();
+  $('timing').textContent = '';
+  message('');
+}
+
+function setPositionsFromReply(reply) {
+  setPositions(state.mesh, reply.positions);
+  view.requestRender();
+}
+
+function showTiming(reply) {
+  const ms = (s) => (1000 * s).toFixed(1);
+  $('timing').textContent = `update ${ms(reply.seconds)} ms (local ${ms(reply.local_step_seconds)}, rhs ` +
+    `${ms(reply.right_hand_side_seconds)}, solve ${ms(reply.solve_seconds)}), ${reply.iterations} it, ` +
+    `server ${ms(reply.handler_seconds)} ms, factorizations ${reply.factorizations}`;
+}
+
+/** Sends the painted selection (preprocess: one factorisation) if it changed. */
+async function commitSelection() {
+  if(!state.selectionDirty) return true;
+  const roi = [], handles = [];
+  state.status.forEach((s, v) => { if(s === ROI) roi.push(v); else if(s === HANDLE) handles.push(v); });
+  if(handles.length === 0) { message('paint at least one handle vertex first (Handle mode)'); return false; }
+  const reply = await api('/api/select', { session: state.session, roi, handles });
+  state.selectionDirty = false;
+  state.transform.identity();
+  setPositions(state.mesh, state.rest);
+  $('timing').textContent = `preprocess ${(1000 * reply.preprocess_seconds).toFixed(1)} ms, factorizations ${reply.factorizations}`;
+  message('');
+  return true;
+}
+
+/** The drag request for a transform: p -> R p + t (rotation about the origin). */
+function dragBody(matrix) {
+  const position = new THREE.Vector3(), quaternion = new THREE.Quaternion(), scale = new THREE.Vector3();
+  matrix.decompose(position, quaternion, scale);
+  const angle = 2 * Math.acos(Math.min(1, Math.abs(quaternion.w)));
+  const sign = quaternion.w < 0 ? -1 : 1;
+  const s = Math.sqrt(Math.max(0, 1 - quaternion.w * quaternion.w));
+  const axis = s > 1e-12 ? [sign * quaternion.x / s, sign * quaternion.y / s, sign * quaternion.z / s] : [0, 0, 1];
+  return { session: state.session, translation: position.toArray(), rotation: { axis, angle: s > 1e-12 ? angle : 0, center: [0, 0, 0] },
+           iterations: Math.max(1, Math.min(100, Number($('iterations').value) || 4)) };
+}
+
+/** Queues a deformation for the current transform; at most one request is in flight (the latest wins). */
+function requestDrag() {
+  state.pending = state.transform.clone();
+  if(state.inFlight) return state.busy;
+  state.busy = (async () => {
+    state.inFlight = true;
+    try {
+      while(state.pending) {
+        const matrix = state.pending;
+        state.pending = null;
+        const reply = await api('/api/drag', dragBody(matrix));
+        setPositionsFromReply(reply);
+        showTiming(reply);
+        state.lastReply = reply;
+        ++state.updates;
+      }
+    } catch(e) { message(e.message); } finally { state.inFlight = false; }
+  })();
+  return state.busy;
+}
+
+function handleCentroid() {
+  const c = new THREE.Vector3(), p = new THREE.Vector3();
+  let count = 0;
+  state.status.forEach((s, v) => { if(s === HANDLE) { c.add(p.fromArray(state.rest, 3 * v)); ++count; } });
+  return count ? c.divideScalar(count).applyMatrix4(state.transform) : null;
+}
+
+function paint(event) {
+  const hit = view.pick(event.clientX, event.clientY);
+  if(!hit) return;
+  const k = Number($('brush').value);
+  const value = state.mode === 'roi' ? ROI : state.mode === 'handle' ? HANDLE : FIXED;
+  let changed = false;
+  for(const v of kRing(hit.vertex, k))
+    if(state.status[v] !== value && !(value === ROI && state.status[v] === HANDLE)) { state.status[v] = value; changed = true; }
+  if(changed) {
+    state.selectionDirty = true;
+    if(!state.transform.equals(new THREE.Matrix4())) {   // a new selection starts from rest
+      state.transform.identity();
+      setPositions(state.mesh, state.rest);
+    }
+    recolor();
+  }
+}
+
+// ---- mouse
+let gesture = null;
+const canvas = view.canvas;
+function rayPlane(event, point, normal) {
+  const rect = canvas.getBoundingClientRect();
+  const ndc = new THREE.Vector2(2 * (event.clientX - rect.left) / rect.width - 1, 1 - 2 * (event.clientY - rect.top) / rect.height);
+  const raycaster = new THREE.Raycaster();
+  raycaster.setFromCamera(ndc, view.camera);
+  return raycaster.ray.intersectPlane(new THREE.Plane().setFromNormalAndCoplanarPoint(normal, point), new THREE.Vector3());
+}
+
+canvas.addEventListener('pointerdown', async (event) => {
+  if(event.button !== 0 || !state.mesh) return;
+  canvas.setPointerCapture(event.pointerId);
+  if(state.mode !== 'drag') { gesture = { kind: 'paint' }; paint(event); return; }
+  gesture = { kind: 'wait' };
+  try { if(!(await commitSelection())) { gesture = null; return; } } catch(e) { message(e.message); gesture = null; return; }
+  const center = handleCentroid();
+  const normal = view.camera.getWorldDirection(new THREE.Vector3());
+  const start = rayPlane(event, center, normal);
+  if(!start) { gesture = null; return; }
+  gesture = { kind: event.ctrlKey || event.altKey ? 'rotate' : 'translate', center, normal, start,
+              x: event.clientX, base: state.transform.clone() };
+});
+canvas.addEventListener('pointermove', (event) => {
+  if(!gesture) return;
+  if(gesture.kind === 'paint') { paint(event); return; }
+  if(gesture.kind === 'translate') {
+    const p = rayPlane(event, gesture.center, gesture.normal);
+    if(!p) return;
+    const d = p.sub(gesture.start);
+    state.transform = new THREE.Matrix4().makeTranslation(d.x, d.y, d.z).multiply(gesture.base);
+  } else if(gesture.kind === 'rotate') {
+    const angle = (event.clientX - gesture.x) * 0.01;
+    const c = gesture.center;
+    state.transform = new THREE.Matrix4().makeTranslation(c.x, c.y, c.z)
+      .multiply(new THREE.Matrix4().makeRotationAxis(gesture.normal.clone().negate(), angle))
+      .multiply(new THREE.Matrix4().makeTranslation(-c.x, -c.y, -c.z)).multiply(gesture.base);
+  } else return;
+  requestDrag();
+});
+const endGesture = (event) => { if(gesture && canvas.hasPointerCapture(event.pointerId)) canvas.releasePointerCapture(event.pointerId); gesture = null; };
+canvas.addEventListener('pointerup', endGesture);
+canvas.addEventListener('pointercancel', endGesture);
+
+// ---- tool bar
+function setMode(mode) {
+  state.mode = mode;
+  for(const b of document.querySelectorAll('.mode')) b.classList.toggle('active', b.dataset.mode === mode);
+}
+for(const b of document.querySelectorAll('.mode')) b.addEventListener('click', () => setMode(b.dataset.mode));
+window.addEventListener('keydown', (e) => {
+  const modes = { 1: 'roi', 2: 'handle', 3: 'erase', 4: 'drag' };
+  if(modes[e.key] && e.target.tagName !== 'INPUT') setMode(modes[e.key]);
+});
+$('brush').addEventListener('input', () => { $('brush-value').textContent = $('brush').value; });
+$('view').addEventListener('click', () => view.resetView());
+$('reset').addEventListener('click', async () => {
+  try {
+    state.transform.identity();
+    if(state.selectionDirty) { setPositions(state.mesh, state.rest); view.requestRender(); return; }
+    setPositionsFromReply(await api('/api/reset', { session: state.session }));
+    $('timing').textContent = '';
+  } catch(e) { message(e.message); }
+});
+$('clear').addEventListener('click', async () => {
+  try {
+    state.status.fill(FIXED);
+    state.selectionDirty = true;
+    state.transform.identity();
+    setPositionsFromReply(await api('/api/reset', { session: state.session, selection: true }));
+    recolor();
+  } catch(e) { message(e.message); }
+});
+async function changePolicy() {
+  try {
+    const body = { session: state.session };
+    for(const key of ['representation', 'weights', 'transform']) body[key] = $(key).value;
+    const reply = await api('/api/policy', body);
+    // a selection painted since the last drag is sent at the next drag: until then the mesh stays at rest
+    if(reply.seconds !== undefined && !state.selectionDirty) { setPositionsFromReply(reply); showTiming(reply); ++state.updates; state.lastReply = reply; }
+    message('');
+  } catch(e) { message(e.message); }
+}
+for(const key of ['representation', 'weights', 'transform']) $(key).addEventListener('change', changePolicy);
+$('mesh').addEventListener('change', () => openMesh($('mesh').value).catch((e) => message(e.message)));
+
+// ---- hooks for scripts and tests (they drive the same functions as the mouse)
+window.editor = {
+  state,
+  /** Client coordinates of vertex v as drawn now. */
+  screenOf(v) {
+    const rect = canvas.getBoundingClientRect();
+    const p = new THREE.Vector3().fromBufferAttribute(state.mesh.geometry.getAttribute('position'), v).project(view.camera);
+    return { x: rect.left + (p.x + 1) / 2 * rect.width, y: rect.top + (1 - p.y) / 2 * rect.height };
+  },
+  /** The vertex under client coordinates (or null). */
+  vertexAt(x, y) { const hit = view.pick(x, y); return hit ? hit.vertex : null; },
+  /** Current positions (as drawn). */
+  positions() { return Array.from(state.mesh.geometry.getAttribute('position').array); },
+  /** Largest distance between a handle vertex as drawn and its target (transform applied to its rest position). */
+  handleError() {
+    let error = 0;
+    const drawn = state.mesh.geometry.getAttribute('position');
+    state.status.forEach((s, v) => {
+      if(s !== HANDLE) return;
+      const target = new THREE.Vector3().fromArray(state.rest, 3 * v).applyMatrix4(state.transform);
+      error = Math.max(error, target.distanceTo(new THREE.Vector3().fromBufferAttribute(drawn, v)));
+    });
+    return error;
+  },
+  idle() { return state.busy; },
+  setMode, openMesh,
+  ready: false,
+};
+
+(async () => {
+  try {
+    const list = await (await fetch('/api/meshes')).json();
+    for(const name of list.meshes) $('mesh').append(new Option(name, name));
+    setMode('roi');
+    await openMesh('default');
+    window.editor.ready = true;
+  } catch(e) { message(`cannot start: ${e.message}`); }
+})();
