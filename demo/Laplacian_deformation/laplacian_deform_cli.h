@@ -331,32 +331,67 @@ inline bool parse_command_line(const std::vector<std::string>& args, Options& o,
     else if(arg == "--output-dir") { if(value.empty()) return bad("a folder"); o.output_dir = value; }
     else if(arg == "--report") { if(value.empty()) return bad("a file name"); o.report = value; }
     else if(arg == "--representation")
-    { if(!detail::one_of(value, {"edge", "vertex"})) return bad("edge or vertex"); o.representation = value; }
+    {
+      if(!detail::one_of(value, {"edge", "vertex"}))
+      {
+        return bad("edge or vertex");
+      }
+      o.representation = value;
+    }
     else if(arg == "--weights")
-    { if(!detail::one_of(value, {"cotangent", "uniform"})) return bad("cotangent or uniform"); o.weights = value; }
+    {
+      if(!detail::one_of(value, {"cotangent", "uniform"}))
+      {
+        return bad("cotangent or uniform");
+      }
+      o.weights = value;
+    }
     else if(arg == "--transform")
     {
       if(!detail::one_of(value, {"sr1", "fixed", "rotation", "similarity", "principal", "rsr"}))
+      {
         return bad("sr1, fixed, rotation, similarity, principal or rsr");
+      }
       o.transform = value;
     }
     else if(arg == "--solver")
-    { if(!detail::one_of(value, {"eigen", "cholmod"})) return bad("eigen or cholmod"); o.solver = value; }
+    {
+      if(!detail::one_of(value, {"eigen", "cholmod"}))
+      {
+        return bad("eigen or cholmod");
+      }
+      o.solver = value;
+    }
     else if(arg == "--progress")
-    { if(!detail::one_of(value, {"auto", "always", "never"})) return bad("auto, always or never"); o.progress = value; }
+    {
+      if(!detail::one_of(value, {"auto", "always", "never"}))
+      {
+        return bad("auto, always or never");
+      }
+      o.progress = value;
+    }
     else if(arg == "--iterations")
     {
-      if(!detail::parse_unsigned(value, n) || n == 0 || n > 1000000) return bad("a positive integer");
+      if(!detail::parse_unsigned(value, n) || n == 0 || n > 1000000)
+      {
+        return bad("a positive integer");
+      }
       o.iterations = static_cast<unsigned int>(n);
     }
     else if(arg == "--threads")
     {
-      if(!detail::parse_unsigned(value, n) || n == 0 || n > 4096) return bad("a positive integer");
+      if(!detail::parse_unsigned(value, n) || n == 0 || n > 4096)
+      {
+        return bad("a positive integer");
+      }
       o.threads = static_cast<unsigned int>(n);
     }
     else if(arg == "--roi-rings")
     {
-      if(!detail::parse_unsigned(value, n) || n > 1000000000) return bad("a non-negative integer");
+      if(!detail::parse_unsigned(value, n) || n > 1000000000)
+      {
+        return bad("a non-negative integer");
+      }
       o.roi_rings = long(n);
     }
     else if(arg == "--tolerance")
