@@ -111,10 +111,12 @@ inline bool read_botsch08_transform(std::istream& in, Eigen::Matrix4d& transform
     error = "the last row of the matrix must be 0 0 0 1";
     return false;
   }
-  // the determinant of the block scaled to unit root-mean-square column length (no under/overflow)
-  const Eigen::Matrix3d linear = transform.topLeftCorner<3, 3>();
-  const double scale = linear.stableNorm() / std::sqrt(3.);
-  if(!(scale > 0) || !std::isfinite(scale) || !(std::abs((linear / scale).determinant()) > 1e-12))
+  // the determinant of the block scaled to unit root-mean-square column length; dividing by the
+  // largest entry first keeps the norm from overflowing or underflowing
+  const double largest = transform.topLeftCorner<3, 3>().cwiseAbs().maxCoeff();
+  const Eigen::Matrix3d linear = transform.topLeftCorner<3, 3>() / (largest > 0 ? largest : 1.);
+  const double scale = linear.norm() / std::sqrt(3.);
+  if(!(largest > 0) || !(std::abs((linear / scale).determinant()) > 1e-12))
   {
     error = "the matrix is singular (its upper-left 3x3 block is not invertible)";
     return false;
