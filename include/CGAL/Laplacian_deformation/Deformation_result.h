@@ -27,7 +27,8 @@ enum Deformation_status
   NON_FINITE_INPUT,            ///< a rest position or a target is NaN or infinite
   NON_FINITE_RESULT,           ///< the solution contains NaN or infinity (nothing was written)
   INVALID_PARAMETER,           ///< a parameter is out of its range (negative tolerance, soft weight not positive)
-  TOPOLOGY_CHANGED             ///< the mesh's number of vertices or edges changed since construction
+  TOPOLOGY_CHANGED,            ///< the mesh's number of vertices or edges changed since construction
+  INVALID_MESH                 ///< the mesh cannot be deformed: a vertex is non-manifold (its incident faces form several fans)
 };
 
 /*!

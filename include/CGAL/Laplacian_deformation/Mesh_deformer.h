@@ -11,9 +11,12 @@
 #include <CGAL/Laplacian_deformation/internal/Deformation_types.h>
 
 #include <CGAL/Iterator_range.h>
+#include <CGAL/Polygon_mesh_processing/manifoldness.h>
+#include <CGAL/boost/graph/helpers.h>
 #include <CGAL/tags.h>
 
 #include <Eigen/Core>
+#include <boost/iterator/function_output_iterator.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -46,7 +49,9 @@ seven `deform(1, 0)` calls. Iterations stop after `iterations` or when the large
 displacement of an iteration, relative to the ROI's bounding-box diagonal, is at most `tolerance`.
 
 A failed `preprocess()` or `deform()` leaves the mesh exactly as it was; its reason is in
-`last_result()`.
+`last_result()`. A vertex descriptor that is not a vertex of the mesh (its index is not below
+`num_vertices(tm)`, for example `null_vertex()`) is never stored: the insertion returns `false`
+and the next `preprocess()` or `deform()` fails with `INVALID_PARAMETER`.
 
 \tparam TriangleMesh a model of `FaceGraph`; its faces may be polygons (see \ref LapDefPolygons)
 \tparam Representation a model of `DeformationRepresentation`; `CGAL::Default`: `Edge_based_representation`
@@ -102,9 +107,12 @@ public:
   /// \name Region of interest and control vertices
   /// @{
 
-  /// inserts `v` in the ROI; returns `false` if it was already there.
+  /// inserts `v` in the ROI; returns `false` if it was already there, or if `v` is not a vertex
+  /// of the mesh (then the next `preprocess()` or `deform()` fails with `INVALID_PARAMETER`).
   bool insert_roi_vertex(vertex_descriptor v)
   {
+    if(!is_vertex(v))
+      return m_foreign_vertex = true, false;
     if(is_roi_vertex(v))
       return false;
     m_is_roi[index(v)] = 1;
@@ -129,18 +137,22 @@ public:
     m_roi.erase(std::find(m_roi.begin(), m_roi.end(), v));
     return m_need_preprocess = true;
   }
-  /// empties the ROI and the set of controls.
+  /// empties the ROI and the set of controls (and forgets any rejected foreign descriptor).
   void clear_roi_vertices()
   {
+    m_foreign_vertex = false;
     for(vertex_descriptor v : m_roi)
       m_is_roi[index(v)] = m_is_control[index(v)] = 0;
     m_roi.clear();
     m_need_preprocess = true;
   }
   /// makes `v` a control vertex (inserting it in the ROI if needed), with its current position
-  /// as target; returns `false` if it already was a control vertex.
+  /// as target; returns `false` if it already was a control vertex, or if `v` is not a vertex of
+  /// the mesh (then the next `preprocess()` or `deform()` fails with `INVALID_PARAMETER`).
   bool insert_control_vertex(vertex_descriptor v)
   {
+    if(!is_vertex(v))
+      return m_foreign_vertex = true, false;
     if(is_control_vertex(v))
       return false;
     insert_roi_vertex(v);
@@ -173,9 +185,9 @@ public:
   /// the ROI, in insertion order.
   Roi_vertex_range roi_vertices() const { return Roi_vertex_range(m_roi.begin(), m_roi.end()); }
   /// whether `v` is in the ROI.
-  bool is_roi_vertex(vertex_descriptor v) const { return m_is_roi[index(v)] != 0; }
+  bool is_roi_vertex(vertex_descriptor v) const { return is_vertex(v) && m_is_roi[index(v)] != 0; }
   /// whether `v` is a control vertex.
-  bool is_control_vertex(vertex_descriptor v) const { return m_is_control[index(v)] != 0; }
+  bool is_control_vertex(vertex_descriptor v) const { return is_vertex(v) && m_is_control[index(v)] != 0; }
   /// @}
 
   /// \name Targets
@@ -194,10 +206,13 @@ public:
     CGAL_precondition(is_control_vertex(v));
     return m_target[index(v)];
   }
-  /// translates the target of `v` by `t` (`Vect` has `operator[]` for its coordinates).
+  /// translates the target of `v` by `t` (`Vect` has `operator[]` for its coordinates);
+  /// ignored if `v` is not a control vertex.
   template <class Vect>
   void translate(vertex_descriptor v, const Vect& t)
   {
+    if(!is_control_vertex(v))
+      return;
     const Point& p = m_target[index(v)];
     set_target_position(v, Point(p.x() + t[0], p.y() + t[1], p.z() + t[2]));
   }
@@ -209,10 +224,13 @@ public:
       translate(*begin, t);
   }
   /// rotates the target of `v` by the quaternion `quat` about `center`, as CGAL does
-  /// (`Vect` is constructible from three coordinates, has `operator[]`, and `quat * Vect` is a `Vect`).
+  /// (`Vect` is constructible from three coordinates, has `operator[]`, and `quat * Vect` is a `Vect`);
+  /// ignored if `v` is not a control vertex.
   template <class Quaternion, class Vect>
   void rotate(vertex_descriptor v, const Vect& center, const Quaternion& quat)
   {
+    if(!is_control_vertex(v))
+      return;
     const Point& p = m_target[index(v)];
     const Vect r = quat * Vect(CGAL::to_double(p.x()) - center[0], CGAL::to_double(p.y()) - center[1],
                                CGAL::to_double(p.z()) - center[2]);
@@ -265,8 +283,11 @@ public:
   {
     const auto t0 = std::chrono::steady_clock::now();
     m_last = Deformation_result();
-    if(!check_topology())
+    if(!check_topology() || !check_mesh())
       return false;
+    if(m_foreign_vertex)
+      return fail(INVALID_PARAMETER, "a vertex descriptor given to insert_roi_vertex() or insert_control_vertex() "
+                                     "is not a vertex of the mesh");
     if(m_roi.empty())
       return fail(EMPTY_REGION_OF_INTEREST, "the region of interest is empty");
     if(m_soft && !(m_soft_weight > 0 && std::isfinite(m_soft_weight)))
@@ -289,6 +310,7 @@ public:
   /// deforms with `iterations()` and `tolerance()`.
   Deformation_result deform() { return deform(m_iterations, m_tolerance); }
   /// deforms with at most `iterations` iterations, stopping when the relative change is at most `tolerance`.
+  /// With `iterations == 0` it only preprocesses if needed and writes nothing.
   Deformation_result deform(unsigned int iterations, double tolerance)
   {
     const auto t0 = std::chrono::steady_clock::now();
@@ -297,6 +319,12 @@ public:
     if(m_need_preprocess || !check_topology())
       if(!prepare())
         return m_last;
+    if(iterations == 0)
+    {
+      m_last = Deformation_result();
+      m_last.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return m_last;
+    }
     std::vector<Eigen::Vector3d> p(m_number_of_vertices);
     for(vertex_descriptor v : vertices(m_tm))
     {
@@ -345,6 +373,7 @@ public:
     m_rest = internal::vertex_positions(m_tm, m_vpm, m_vim);
     std::fill(m_moved.begin(), m_moved.end(), 0);
     m_operator_ready = false;
+    m_mesh_checked = false;
     m_need_preprocess = true;
   }
   /// the outcome of the last `preprocess()` or `deform()`.
@@ -378,6 +407,10 @@ private:
   typedef typename CGAL::GetInitializedVertexIndexMap<TriangleMesh>::const_type Vertex_index_map;
 
   std::size_t index(vertex_descriptor v) const { return static_cast<std::size_t>(get(m_vim, v)); }
+  bool is_vertex(vertex_descriptor v) const
+  {
+    return v != boost::graph_traits<TriangleMesh>::null_vertex() && index(v) < m_number_of_vertices;
+  }
   static Eigen::Vector3d to_vector(const Point& p)
   {
     return Eigen::Vector3d(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
@@ -406,6 +439,21 @@ private:
     if(num_vertices(m_tm) == m_number_of_vertices && num_edges(m_tm) == m_number_of_edges)
       return true;
     return fail(TOPOLOGY_CHANGED, "the mesh's topology changed since the deformer was constructed");
+  }
+  // once: manifold vertices, finite rest positions (polygon faces are fine: LapDefPolygons)
+  bool check_mesh()
+  {
+    if(m_mesh_checked)
+      return true;
+    std::size_t non_manifold = 0;
+    CGAL::Polygon_mesh_processing::non_manifold_vertices(
+        m_tm, boost::make_function_output_iterator([&non_manifold](const auto&) { ++non_manifold; }));
+    if(non_manifold > 0)
+      return fail(INVALID_MESH, "a vertex of the mesh is non-manifold (its faces form several fans)");
+    for(const Eigen::Vector3d& p : m_rest)
+      if(!p.allFinite())
+        return fail(NON_FINITE_INPUT, "a rest position of the mesh is not finite");
+    return m_mesh_checked = true;
   }
   // the rest-geometry operator, shared by every ROI: stencils, weights, D, delta = D p_rest
   void build_operator()
@@ -455,6 +503,8 @@ private:
   double m_tolerance = 1e-4;
   bool m_soft = false;
   bool m_operator_ready = false;
+  bool m_mesh_checked = false;
+  bool m_foreign_vertex = false;
   bool m_need_preprocess = true;
 };
 

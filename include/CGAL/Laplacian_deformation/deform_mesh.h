@@ -42,7 +42,8 @@ vertex stays fixed.
 Equivalent to a `Mesh_deformer` with the chosen policies, `insert_roi_vertices(roi)`,
 `insert_control_vertices(controls)`, one `set_target_position()` per control, and
 `deform(number_of_iterations, tolerance)`. On failure the mesh is left unchanged and the
-result says why.
+result says why; in particular `INVALID_PARAMETER` if `targets` has not exactly as many points
+as `controls`.
 
 \tparam TriangleMesh a model of `FaceGraph`; its faces may be polygons (see \ref LapDefPolygons)
 \tparam VertexRange a range of `boost::graph_traits<TriangleMesh>::%vertex_descriptor`
@@ -112,14 +113,18 @@ Deformation_result deform_mesh(TriangleMesh& tm, const VertexRange& roi, const C
   Mesh_deformer<TriangleMesh, Representation, Weights, Transform, Solver, Vertex_point_map, Concurrency>
       deformer(tm, choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
                                     get_property_map(CGAL::vertex_point, tm)));
+  if(std::distance(std::begin(controls), std::end(controls)) != std::distance(std::begin(targets), std::end(targets)))
+  {
+    Deformation_result result;
+    result.status = INVALID_PARAMETER;
+    result.message = "deform_mesh() needs exactly one target per control vertex";
+    return result;
+  }
   deformer.insert_roi_vertices(std::begin(roi), std::end(roi));
   deformer.insert_control_vertices(std::begin(controls), std::end(controls));
   auto target = std::begin(targets);
   for(auto v : controls)
-  {
-    CGAL_precondition(target != std::end(targets));
     deformer.set_target_position(v, *target++);
-  }
   if(!is_default_parameter<NamedParameters, internal_np::soft_constraint_weight_t>::value)
     deformer.set_soft_constraints(choose_parameter(get_parameter(np, internal_np::soft_constraint_weight), 1.));
   return deformer.deform(choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 4u),

@@ -6,6 +6,7 @@
 #define CGAL_LAPLACIAN_DEFORMATION_IO_BOTSCH08_H
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include <cmath>
 #include <cstddef>
@@ -32,12 +33,13 @@ enum Botsch08_status { BOTSCH08_FIXED = 0, BOTSCH08_REGION_OF_INTEREST = 1, BOTS
 `0` fixed, `1` region of interest, `2` handle; lines starting with `#` are comments.
 
 Returns `false` and explains in `error` (with the line number) if a line holds anything but one
-of `0`, `1`, `2`, or if `expected_count` (when not `0`) differs from the number of statuses.
+of `0`, `1`, `2`, or if `expected_count` (when not `0`) differs from the number of statuses;
+`status` is then left unchanged.
 */
-inline bool read_botsch08_selection(std::istream& in, std::vector<int>& status, std::string& error,
+inline bool read_botsch08_selection(std::istream& in, std::vector<int>& status_out, std::string& error,
                                     std::size_t expected_count = 0)
 {
-  status.clear();
+  std::vector<int> status;
   std::string line;
   for(std::size_t number = 1; std::getline(in, line); ++number)
   {
@@ -58,6 +60,7 @@ inline bool read_botsch08_selection(std::istream& in, std::vector<int>& status, 
             std::to_string(expected_count) + " vertices";
     return false;
   }
+  status_out.swap(status);
   return true;
 }
 
@@ -65,10 +68,13 @@ inline bool read_botsch08_selection(std::istream& in, std::vector<int>& status, 
 \ingroup PkgLaplacianDeformationIO
 \brief reads a Botsch08 handle transformation (`.def`): after optional `#` comment lines,
 sixteen finite numbers, the 4x4 matrix row by row, whose last row must be `0 0 0 1`
-(an affine map). Returns `false` and explains in `error` otherwise.
+(an affine map) and whose linear part (the upper-left 3x3 block) must be invertible: its
+determinant, once the block is divided by its root-mean-square column length, must exceed `1e-12`.
+Returns `false` and explains in `error` otherwise; `transform` is then left unchanged.
 */
-inline bool read_botsch08_transform(std::istream& in, Eigen::Matrix4d& transform, std::string& error)
+inline bool read_botsch08_transform(std::istream& in, Eigen::Matrix4d& transform_out, std::string& error)
 {
+  Eigen::Matrix4d transform;
   std::string line, text;
   while(std::getline(in, line))
   {
@@ -105,6 +111,17 @@ inline bool read_botsch08_transform(std::istream& in, Eigen::Matrix4d& transform
     error = "the last row of the matrix must be 0 0 0 1";
     return false;
   }
+  // the determinant of the block scaled to unit root-mean-square column length; dividing by the
+  // largest entry first keeps the norm from overflowing or underflowing
+  const double largest = transform.topLeftCorner<3, 3>().cwiseAbs().maxCoeff();
+  const Eigen::Matrix3d linear = transform.topLeftCorner<3, 3>() / (largest > 0 ? largest : 1.);
+  const double scale = linear.norm() / std::sqrt(3.);
+  if(!(largest > 0) || !(std::abs((linear / scale).determinant()) > 1e-12))
+  {
+    error = "the matrix is singular (its upper-left 3x3 block is not invertible)";
+    return false;
+  }
+  transform_out = transform;
   return true;
 }
 

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Test stage: the whole test suite again, built with AddressSanitizer + UndefinedBehaviorSanitizer
+# in a second folder ($1-asan: Debug, so CGAL/Eigen assertions are on, at -O1): the library's
+# test executables; examples, benchmarks, the laplacian_deform tool and the viewer are left out
+# to keep CI short (the tool's 100-odd policy instantiations would double the build). Any sanitizer finding aborts its test, so ctest fails.
+#   usage: scripts/test.d/40-sanitizers.sh <main build folder>
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+build=$1
+asan=$build-asan
+flags="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all -O1 -g1"
+cmake -S "$here" -B "$asan" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="$flags" \
+      -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
+      -DLAPLACIAN_DEFORMATION_BUILD_EXAMPLES=OFF -DLAPLACIAN_DEFORMATION_BUILD_BENCHMARKS=OFF \
+      -DLAPLACIAN_DEFORMATION_BUILD_TOOLS=OFF -DLAPLACIAN_DEFORMATION_BUILD_VIEWER_TESTS=OFF \
+      -DLAPLACIAN_DEFORMATION_DATA_DIR="$build/data" >/dev/null
+cmake --build "$asan" -j"$(nproc)"
+export ASAN_OPTIONS=abort_on_error=1:detect_leaks=1:strict_string_checks=1:check_initialization_order=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+ctest --test-dir "$asan" --output-on-failure -j"$(nproc)"
+echo "== sanitizers: every test passed under AddressSanitizer + UndefinedBehaviorSanitizer"
