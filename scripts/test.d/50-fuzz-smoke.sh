@@ -21,6 +21,6 @@ for target in botsch08 deformer; do
   echo "== fuzzing $target for $seconds s"
   (cd "$work" && "$fuzz/test/Laplacian_deformation/fuzz/fuzz_$target" -max_total_time="$seconds" \
      -print_final_stats=1 -timeout=20 corpus > log.txt 2>&1) || { tail -40 "$work/log.txt"; exit 1; }
-  grep -E "^#[0-9]+ *DONE" "$work/log.txt" | tail -1
+  grep -E "^#[0-9]+[[:space:]]+DONE" "$work/log.txt" | tail -1
 done
 echo "== fuzz smoke: no crash"
