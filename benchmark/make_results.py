@@ -211,9 +211,10 @@ p('From the micro-benchmarks below (`bench_Mesh_deformer --levels=%s`, every cas
   'but the 2%% lowest vertices, the 1%% highest moved; ours: cotangent weights, S*R1, default solver '
   '(CHOLMOD supernodal when built with it); CGAL: `Surface_mesh_deformation` ORIGINAL_ARAP with its default '
   'solver. One iteration = one `deform(1, 0)` (local step, right-hand side, solve). Peak memory = VmHWM of '
-  'the iteration case (preprocess, then the iterations) above the process\'s resident size once the mesh '
-  'is loaded (the peak is reset there through /proc/self/clear_refs), i.e. the deformer and the copy of '
-  'the mesh it deforms; the absolute VmHWM is in parentheses. The machine was shared (see the load above): '
+  'the process of the iteration case (the case runs alone in its process: load the mesh, copy it, preprocess, '
+  'iterate; Google Benchmark may call the case more than once, and the peak is reset through '
+  '/proc/self/clear_refs at the start of each call, so it is the peak of the last call, or the memory kept from the earlier calls if larger). Both methods carry '
+  'the same baseline (the process, the loaded mesh and its copy). The machine was shared (see the load above): '
   'times are indicative.\n' % levels)
 if bandwidths:
     p('Memory read bandwidth: %s (1 GiB array of 64-bit integers summed; the best is used for the bound).\n' % ', '.join(
@@ -263,12 +264,13 @@ for level in lv:
             ep['real_time'] / cp['real_time'], '<= 1', reason)
     else:
         row('edge preprocess / CGAL preprocess', 'not measured', nan, '<= 1', '')
-    if e and c and 'extra_mb' in e and 'extra_mb' in c:
+    if e and c and 'peak_mb' in e and 'peak_mb' in c:
         reason = ''
         if 'factor_mb' in e:
-            reason = 'factor L %.0f MB (%.3g nonzeros, %d unknowns)' % (e['factor_mb'], e['factor_lnz'], e['n'])
-        row('edge peak memory / CGAL peak memory', '%.0f (%.0f) / %.0f (%.0f) MB' % (
-            e['extra_mb'], e['peak_mb'], c['extra_mb'], c['peak_mb']), e['extra_mb'] / c['extra_mb'], '<= 1.5', reason)
+            reason = 'factor L %.0f MB (%.3g nonzeros, %d unknowns); vertex-based peak %s MB' % (
+                e['factor_mb'], e['factor_lnz'], e['n'], '%.0f' % v['peak_mb'] if v and 'peak_mb' in v else '-')
+        row('edge peak memory / CGAL peak memory', '%.0f / %.0f MB' % (e['peak_mb'], c['peak_mb']),
+            e['peak_mb'] / c['peak_mb'], '<= 1.5', reason)
     else:
         row('edge peak memory / CGAL peak memory', 'not measured', nan, '<= 1.5', '')
     for name, b in (('edge', e), ('vertex', v)):
@@ -293,25 +295,28 @@ p('`build/benchmark/Laplacian_deformation/bench_Mesh_deformer --levels=%s`, each
   '(`--benchmark_filter`): CGAL\'s armadillo (level 0) and its '
   'Loop subdivisions (level 1 about 104k, level 2 about 416k vertices). ROI all_but_2pct = all but the 2%% lowest '
   'vertices, roi_10pct = the 10%% highest; the 1%% highest are the handle. Ours: cotangent weights, S*R1. '
-  'Wall time in ms; the iteration split (local step / right-hand side / solve) in ms per iteration; memory: '
-  'VmHWM above the resident size once the mesh is loaded (and absolute VmHWM), MB; factor: CHOLMOD\'s '
+  'Wall time in ms (the mean over the timed iterations), next to the CPU time of the main thread alone (not '
+  'counting TBB\'s or BLAS\'s worker threads; far below the wall time when the process waited for a core); '
+  'the iteration split (local step / right-hand side / solve) in ms per iteration; memory: '
+  'peak MB = VmHWM of the case\'s process (reset at the start of its last call; see above); factor: CHOLMOD\'s '
   'analyse + factorise time inside preprocess (ms) and the bytes of L (MB).\n' % levels)
 if benchmarks:
-    p('| benchmark | vertices | ROI | time ms | local / rhs / solve ms | memory MB | factor ms / MB |')
-    p('|---|---:|---:|---:|---|---|---|')
+    p('| benchmark | vertices | ROI | time ms | main-thread CPU ms | timed iterations | local / rhs / solve ms | peak MB | factor ms / MB (bandwidth GB/s) |')
+    p('|---|---:|---:|---:|---:|---:|---|---|---|')
     for b in benchmarks:
         split = ''
         if 'local_ms' in b:
             split = '%.2f / %.2f / %.2f' % (b['local_ms'], b['rhs_ms'], b['solve_ms'])
         if b.get('error_occurred'):
-            p('| %s | | | failed: %s | | | |' % (b['name'], b.get('error_message', '')))
+            p('| %s | | | failed: %s | | | | | |' % (b['name'], b.get('error_message', '')))
             continue
-        memory = '%.0f (%.0f)' % (b['extra_mb'], b['peak_mb']) if 'extra_mb' in b else ''
+        memory = '%.0f' % b['peak_mb'] if 'peak_mb' in b else ''
         factor = '%.0f / %.0f' % (b['factor_ms'], b['factor_mb']) if 'factor_ms' in b else ''
         if b['name'].startswith('bandwidth/'):
             factor = '%.1f GB/s' % (b.get('bytes_per_second', 0) / 1e9)
-        p('| %s | %d | %d | %.2f | %s | %s | %s |' % (b['name'], b.get('vertices', 0), b.get('roi', 0), b['real_time'],
-                                                       split, memory, factor))
+        p('| %s | %d | %d | %.2f | %.2f | %d | %s | %s | %s |' % (
+            b['name'], b.get('vertices', 0), b.get('roi', 0), b['real_time'], b.get('cpu_time', float('nan')),
+            b.get('iterations', 0), split, memory, factor))
     p('')
 else:
     p('(bench.json missing)\n')
