@@ -12,12 +12,14 @@
 // Level 2 is slow (factorisations of a 416k-vertex system): it runs only when asked for.
 //
 // Counters besides the times:
-// - peak_mb, base_mb, extra_mb: memory. Once the (cached) mesh and the selection are ready, the
-//   case resets the process's peak resident set size (writes 5 to /proc/self/clear_refs) and reads
-//   VmRSS (base_mb); after the case it reads VmHWM (peak_mb); extra_mb = peak_mb - base_mb is what
-//   the case itself needed (the deformer, and the copy of the mesh it deforms). peak_reset = 1 when
-//   the reset worked. Freed memory of earlier cases may stay in the process: run_harness.sh runs
-//   every case in its own process (--benchmark_filter).
+// - peak_mb, base_mb, extra_mb: memory. At the start of each call of the case (Google Benchmark may
+//   call a case more than once), once the (cached) mesh and the selection are ready, the case resets
+//   the process's peak resident set size (writes 5 to /proc/self/clear_refs) and reads VmRSS
+//   (base_mb); after the call it reads VmHWM (peak_mb): the peak of the last call, or the memory the
+//   process kept from earlier calls if larger; extra_mb = peak_mb - base_mb (small when earlier calls
+//   left their freed memory in the process). peak_reset = 1 when the reset worked. Freed memory of
+//   other cases may stay in the process too: run_harness.sh runs every case in its own process
+//   (--benchmark_filter) and reports peak_mb.
 // - ours only (CHOLMOD build): factor_ms (CHOLMOD analyse + factorise inside preprocess()),
 //   factor_mb (bytes of the supernodal factor L: values and row indices, read once by the forward
 //   and once by the backward substitution), factor_lnz (nonzeros of L), n (unknowns per coordinate).
