@@ -7,6 +7,7 @@ import datetime
 import json
 import os
 import platform
+import re
 import subprocess
 import sys
 
@@ -85,7 +86,12 @@ p('- Harness: every task x {vertex, edge} x {uniform, cotangent} x {fixed, rotat
   'SRE_ARAP on the same ROI, handle and targets; %s iterations each (`deform(1, 0)` called %s times: '
   'tolerance 0), each run in a forked child whose VmHWM is its peak memory. Metrics: '
   '`include/CGAL/Laplacian_deformation/metrics.h` (all: lower is better); the distortion field of the '
-  'figures is `vertex_distortion_field()` (one-ring rigidity error).\n' % (iterations, iterations))
+  'figures is `vertex_distortion_field()` (one-ring rigidity error).' % (iterations, iterations))
+load_file = os.path.join(out, 'load.txt')
+if os.path.exists(load_file):
+    p('- Load of the machine (/proc/loadavg: 1, 5, 15 min averages, runnable/total, last pid) on %s CPUs: %s' % (
+        cores, '; '.join(l.strip() for l in open(load_file) if l.strip())))
+p('')
 
 # figures
 figures = [t for t in tasks if os.path.exists(os.path.join(bench_dir, 'figures', t + '.png'))]
@@ -179,25 +185,138 @@ p('')
 
 # micro-benchmarks
 bench = os.path.join(out, 'bench.json')
+benchmarks = []
+if os.path.exists(bench):
+    benchmarks = [b for b in json.load(open(bench)).get('benchmarks', []) if b.get('run_type') != 'aggregate']
+
+
+def bench_case(prefix):
+    for b in benchmarks:
+        if b['name'] == prefix or b['name'].startswith(prefix + '/iterations:'):
+            return None if b.get('error_occurred') else b
+    return None
+
+
+def verdict(value, target):
+    if value != value:
+        return 'not measured'
+    return 'met' if value <= target else '**missed**'
+
+
+bandwidths = [b for b in benchmarks if b['name'].startswith('bandwidth/') and not b.get('error_occurred')]
+bandwidth = max([b.get('bytes_per_second', 0) for b in bandwidths] or [0])
+p('## Performance targets (issue 6)\n')
+p('From the micro-benchmarks below (`bench_Mesh_deformer --levels=%s`, every case in its own process): '
+  'the armadillo (level 0, 26k vertices) and its Loop subdivisions (level 1 104k, level 2 416k), ROI all '
+  'but the 2%% lowest vertices, the 1%% highest moved; ours: cotangent weights, S*R1, default solver '
+  '(CHOLMOD supernodal when built with it); CGAL: `Surface_mesh_deformation` ORIGINAL_ARAP with its default '
+  'solver. One iteration = one `deform(1, 0)` (local step, right-hand side, solve). Peak memory = VmHWM of '
+  'the process of the iteration case (the case runs alone in its process: load the mesh, copy it, preprocess, '
+  'iterate; Google Benchmark may call the case more than once, and the peak is reset through '
+  '/proc/self/clear_refs at the start of each call, so it is the peak of the last call, or the memory kept from the earlier calls if larger). Both methods carry '
+  'the same baseline (the process, the loaded mesh and its copy). The machine was shared (see the load above): '
+  'times are indicative.\n' % levels)
+if bandwidths:
+    p('Memory read bandwidth: %s (1 GiB array of 64-bit integers summed; the best is used for the bound).\n' % ', '.join(
+        '%s thread(s) %.1f GB/s' % (re.search(r'threads:(\d+)', b['name']).group(1), b.get('bytes_per_second', 0) / 1e9) for b in bandwidths))
+p('| level | vertices | target | measured | ratio | limit | verdict | split / reason |')
+p('|---|---:|---|---|---:|---:|---|---|')
+edge_iter = {}
+lv = [int(x) for x in levels.split(',') if x.strip()]
+for level in lv:
+    suffix = '/armadillo_loop%d/all_but_2pct' % level
+    e, v, c = (bench_case('iteration/%s%s' % (m, suffix)) for m in ('edge', 'vertex', 'cgal_arap'))
+    ep, cp = bench_case('preprocess/edge' + suffix), bench_case('preprocess/cgal_arap' + suffix)
+    nv = int((e or v or c or {}).get('vertices', 0))
+    if e:
+        edge_iter[level] = e
+
+    def split(b):
+        if not b or 'local_ms' not in b:
+            return ''
+        t = b['real_time']
+        parts = [('local step', b['local_ms']), ('right-hand side', b['rhs_ms']), ('solve', b['solve_ms'])]
+        top = max(parts, key=lambda x: x[1])
+        return 'local %.0f / rhs %.1f / solve %.0f ms; %s dominates (%.0f%%)' % (
+            b['local_ms'], b['rhs_ms'], b['solve_ms'], top[0], 100 * top[1] / t if t else 0)
+
+    def row(target, measured, ratio, limit, reason):
+        p('| %d | %d | %s | %s | %s | %s | %s | %s |' % (
+            level, nv, target, measured, '%.2f' % ratio if ratio == ratio else '-', limit, verdict(ratio, float(limit.strip('<= '))), reason))
+
+    nan = float('nan')
+    if e and c:
+        row('edge S*R1 iteration / CGAL iteration', '%.1f / %.1f ms' % (e['real_time'], c['real_time']),
+            e['real_time'] / c['real_time'], '<= 0.5', split(e))
+    else:
+        row('edge S*R1 iteration / CGAL iteration', 'not measured', nan, '<= 0.5', '')
+    if v and c:
+        row('vertex S*R1 iteration / CGAL iteration', '%.1f / %.1f ms' % (v['real_time'], c['real_time']),
+            v['real_time'] / c['real_time'], '<= 0.25', split(v))
+    else:
+        row('vertex S*R1 iteration / CGAL iteration', 'not measured', nan, '<= 0.25', '')
+    if ep and cp:
+        reason = ''
+        if 'factor_ms' in ep:
+            reason = 'CHOLMOD analyse + factorise %.0f ms (%.0f%%), the rest (operator, A, A^T A) %.0f ms' % (
+                ep['factor_ms'], 100 * ep['factor_ms'] / ep['real_time'], ep['real_time'] - ep['factor_ms'])
+        row('edge preprocess / CGAL preprocess', '%.0f / %.0f ms' % (ep['real_time'], cp['real_time']),
+            ep['real_time'] / cp['real_time'], '<= 1', reason)
+    else:
+        row('edge preprocess / CGAL preprocess', 'not measured', nan, '<= 1', '')
+    if e and c and 'peak_mb' in e and 'peak_mb' in c:
+        reason = ''
+        if 'factor_mb' in e:
+            reason = 'factor L %.0f MB (%.3g nonzeros, %d unknowns); vertex-based peak %s MB' % (
+                e['factor_mb'], e['factor_lnz'], e['n'], '%.0f' % v['peak_mb'] if v and 'peak_mb' in v else '-')
+        row('edge peak memory / CGAL peak memory', '%.0f / %.0f MB' % (e['peak_mb'], c['peak_mb']),
+            e['peak_mb'] / c['peak_mb'], '<= 1.5', reason)
+    else:
+        row('edge peak memory / CGAL peak memory', 'not measured', nan, '<= 1.5', '')
+    for name, b in (('edge', e), ('vertex', v)):
+        if b and 'factor_mb' in b and bandwidth > 0:
+            bound = 2 * b['factor_mb'] * 1e6 / bandwidth * 1e3
+            row('%s solve / (2 x factor bytes / bandwidth)' % name, '%.1f ms / (2 x %.0f MB / %.1f GB/s = %.1f ms)' % (
+                b['solve_ms'], b['factor_mb'], bandwidth / 1e9, bound), b['solve_ms'] / bound, '<= 2',
+                'supernodal forward and backward substitution of the 3 columns at once')
+if 1 in edge_iter and 2 in edge_iter:
+    a, b = edge_iter[1], edge_iter[2]
+    g_all = b['real_time'] / a['real_time']
+    parts = ', '.join('%s x%.2f' % (k, b[k + '_ms'] / a[k + '_ms']) for k in ('local', 'rhs', 'solve') if a.get(k + '_ms'))
+    p('| 1 -> 2 | %d -> %d | edge iteration growth 104k -> 416k | %.1f -> %.1f ms | %.2f | <= 4.4 | %s | %s (vertices x%.2f) |' % (
+        a['vertices'], b['vertices'], a['real_time'], b['real_time'], g_all, verdict(g_all, 4.4), parts,
+        b['vertices'] / a['vertices']))
+else:
+    p('| 1 -> 2 | | edge iteration growth 104k -> 416k | not measured (needs LEVELS=0,1,2) | - | <= 4.4 | not measured | |')
+p('')
+
 p('## Micro-benchmarks (Google Benchmark, levels %s)\n' % levels)
-p('`build/benchmark/Laplacian_deformation/bench_Mesh_deformer --levels=%s`: CGAL\'s armadillo (level 0) and its '
+p('`build/benchmark/Laplacian_deformation/bench_Mesh_deformer --levels=%s`, each case in its own process '
+  '(`--benchmark_filter`): CGAL\'s armadillo (level 0) and its '
   'Loop subdivisions (level 1 about 104k, level 2 about 416k vertices). ROI all_but_2pct = all but the 2%% lowest '
   'vertices, roi_10pct = the 10%% highest; the 1%% highest are the handle. Ours: cotangent weights, S*R1. '
-  'Wall time in ms; the iteration split (local step / right-hand side / solve) in ms per iteration.\n' % levels)
-if os.path.exists(bench):
-    data = json.load(open(bench))
-    p('| benchmark | vertices | ROI | time ms | local / rhs / solve ms |')
-    p('|---|---:|---:|---:|---|')
-    for b in data.get('benchmarks', []):
-        if b.get('run_type') == 'aggregate':
-            continue
+  'Wall time in ms (the mean over the timed iterations), next to the CPU time of the main thread alone (not '
+  'counting TBB\'s or BLAS\'s worker threads; far below the wall time when the process waited for a core); '
+  'the iteration split (local step / right-hand side / solve) in ms per iteration; memory: '
+  'peak MB = VmHWM of the case\'s process (reset at the start of its last call; see above); factor: CHOLMOD\'s '
+  'analyse + factorise time inside preprocess (ms) and the bytes of L (MB).\n' % levels)
+if benchmarks:
+    p('| benchmark | vertices | ROI | time ms | main-thread CPU ms | timed iterations | local / rhs / solve ms | peak MB | factor ms / MB (bandwidth GB/s) |')
+    p('|---|---:|---:|---:|---:|---:|---|---|---|')
+    for b in benchmarks:
         split = ''
         if 'local_ms' in b:
             split = '%.2f / %.2f / %.2f' % (b['local_ms'], b['rhs_ms'], b['solve_ms'])
         if b.get('error_occurred'):
-            p('| %s | | | failed: %s | |' % (b['name'], b.get('error_message', '')))
+            p('| %s | | | failed: %s | | | | | |' % (b['name'], b.get('error_message', '')))
             continue
-        p('| %s | %d | %d | %.2f | %s |' % (b['name'], b.get('vertices', 0), b.get('roi', 0), b['real_time'], split))
+        memory = '%.0f' % b['peak_mb'] if 'peak_mb' in b else ''
+        factor = '%.0f / %.0f' % (b['factor_ms'], b['factor_mb']) if 'factor_ms' in b else ''
+        if b['name'].startswith('bandwidth/'):
+            factor = '%.1f GB/s' % (b.get('bytes_per_second', 0) / 1e9)
+        p('| %s | %d | %d | %.2f | %.2f | %d | %s | %s | %s |' % (
+            b['name'], b.get('vertices', 0), b.get('roi', 0), b['real_time'], b.get('cpu_time', float('nan')),
+            b.get('iterations', 0), split, memory, factor))
     p('')
 else:
     p('(bench.json missing)\n')

@@ -10,6 +10,21 @@
 //   bench_Mesh_deformer [--levels=0,1] [Google Benchmark flags, e.g. --benchmark_format=json]
 //
 // Level 2 is slow (factorisations of a 416k-vertex system): it runs only when asked for.
+//
+// Counters besides the times:
+// - peak_mb, base_mb, extra_mb: memory. At the start of each call of the case (Google Benchmark may
+//   call a case more than once), once the (cached) mesh and the selection are ready, the case resets
+//   the process's peak resident set size (writes 5 to /proc/self/clear_refs) and reads VmRSS
+//   (base_mb); after the call it reads VmHWM (peak_mb): the peak of the last call, or the memory the
+//   process kept from earlier calls if larger; extra_mb = peak_mb - base_mb (small when earlier calls
+//   left their freed memory in the process). peak_reset = 1 when the reset worked. Freed memory of
+//   other cases may stay in the process too: run_harness.sh runs every case in its own process
+//   (--benchmark_filter) and reports peak_mb.
+// - ours only (CHOLMOD build): factor_ms (CHOLMOD analyse + factorise inside preprocess()),
+//   factor_mb (bytes of the supernodal factor L: values and row indices, read once by the forward
+//   and once by the backward substitution), factor_lnz (nonzeros of L), n (unknowns per coordinate).
+// - bandwidth/read_1GiB/threads:T: sums a 1 GiB array of 64-bit integers with T threads (bytes_per_second):
+//   the machine's memory read bandwidth, for the bound "solve >= 2 x factor bytes / bandwidth".
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_deformation.h>
@@ -18,16 +33,24 @@
 #include <CGAL/Laplacian_deformation/Mesh_deformer.h>
 #include <CGAL/Laplacian_deformation/Vertex_based_representation.h>
 
+#ifdef CGAL_LAPLACIAN_DEFORMATION_USE_CHOLMOD
+#include <CGAL/Laplacian_deformation/Cholmod_solver_traits.h>
+#endif
+
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace LD = CGAL::Laplacian_deformation;
@@ -36,6 +59,117 @@ typedef CGAL::Surface_mesh<Kernel::Point_3> Mesh;
 typedef boost::graph_traits<Mesh>::vertex_descriptor vertex_descriptor;
 
 namespace {
+
+// ---- memory of the process (Linux /proc)
+double proc_status_mb(const char* key)   // VmRSS, VmHWM, ... in MB
+{
+  std::ifstream in("/proc/self/status");
+  const std::size_t length = std::strlen(key);
+  for(std::string line; std::getline(in, line);)
+    if(line.compare(0, length, key) == 0 && line.size() > length && line[length] == ':')
+      return std::atof(line.c_str() + length + 1) / 1024.;   // kB
+  return 0;
+}
+
+bool reset_peak_memory()   // VmHWM := VmRSS (Linux >= 4.0)
+{
+  std::ofstream out("/proc/self/clear_refs");
+  out << "5";
+  out.flush();
+  return bool(out);
+}
+
+struct Memory_probe
+{
+  bool reset = reset_peak_memory();
+  double base = proc_status_mb("VmRSS");
+  void report(benchmark::State& state) const
+  {
+    const double peak = proc_status_mb("VmHWM");
+    state.counters["peak_mb"] = peak;
+    state.counters["base_mb"] = base;
+    state.counters["extra_mb"] = peak - base;
+    state.counters["peak_reset"] = reset ? 1 : 0;
+  }
+};
+
+// ---- the factor of ours: CHOLMOD's supernodal LLT recording the size of L and the factorisation time
+struct Factor_record
+{
+  double seconds = 0, bytes = 0, lnz = 0, n = 0;
+  bool valid = false;
+};
+Factor_record last_factor;
+
+#ifdef CGAL_LAPLACIAN_DEFORMATION_USE_CHOLMOD
+// Exactly Eigen::CholmodSupernodalLLT (the solver of Default_solver_traits); compute() also records.
+struct Recording_supernodal_llt
+  : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>
+{
+  typedef Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> Base;
+  Recording_supernodal_llt& compute(const Eigen::SparseMatrix<double>& matrix)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    Base::compute(matrix);
+    last_factor.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    last_factor.valid = m_cholmodFactor != nullptr;
+    if(last_factor.valid)
+    {
+      const cholmod_factor& l = *m_cholmodFactor;
+      const double index_bytes = l.itype == CHOLMOD_LONG ? 8 : 4;
+      last_factor.bytes = l.is_super ? 8. * double(l.xsize) + index_bytes * double(l.ssize)
+                                     : (8. + index_bytes) * double(l.nzmax);
+      last_factor.lnz = cholmod().lnz;
+      last_factor.n = double(l.n);
+    }
+    return *this;
+  }
+};
+typedef CGAL::Eigen_solver_traits<Recording_supernodal_llt> Bench_solver_traits;
+#else
+typedef CGAL::Default Bench_solver_traits;
+#endif
+
+void report_factor(benchmark::State& state)
+{
+  if(!last_factor.valid)
+    return;
+  state.counters["factor_ms"] = 1e3 * last_factor.seconds;
+  state.counters["factor_mb"] = last_factor.bytes / 1e6;
+  state.counters["factor_lnz"] = last_factor.lnz;
+  state.counters["n"] = last_factor.n;
+}
+
+// ---- memory read bandwidth: sum a 1 GiB array of 64-bit integers with `threads` threads
+void BM_read_bandwidth(benchmark::State& state, int threads)
+{
+  const std::size_t count = (std::size_t(1) << 30) / sizeof(std::uint64_t);
+  std::vector<std::uint64_t> data(count, 1);
+  std::vector<std::uint64_t> sums(std::size_t(threads) * 8);
+  for(auto _ : state)
+  {
+    std::vector<std::thread> workers;
+    for(int t = 0; t < threads; ++t)
+      workers.emplace_back([&, t] {
+        const std::size_t begin = count * std::size_t(t) / std::size_t(threads);
+        const std::size_t end = count * std::size_t(t + 1) / std::size_t(threads);
+        std::uint64_t sum = 0;
+        for(std::size_t i = begin; i < end; ++i)
+          sum += data[i];
+        sums[std::size_t(t) * 8] = sum;     // one cache line apart
+      });
+    for(std::thread& w : workers)
+      w.join();
+    benchmark::DoNotOptimize(sums.data());
+    benchmark::ClobberMemory();
+  }
+  std::uint64_t total = 0;
+  for(int t = 0; t < threads; ++t)
+    total += sums[std::size_t(t) * 8];
+  if(total != count)
+    state.SkipWithError("wrong sum");
+  state.SetBytesProcessed(std::int64_t(state.iterations()) * std::int64_t(count * sizeof(std::uint64_t)));
+}
 
 // the armadillo subdivided `level` times (cached in the data folder)
 const Mesh& armadillo(int level)
@@ -84,7 +218,7 @@ Selection select(const Mesh& m, int roi_percent)
 template <class Representation>
 struct Ours
 {
-  typedef LD::Mesh_deformer<Mesh, Representation> Deformer;
+  typedef LD::Mesh_deformer<Mesh, Representation, CGAL::Default, CGAL::Default, Bench_solver_traits> Deformer;
   static constexpr bool split = true;
   static void insert(Deformer& d, const Selection& s)
   {
@@ -110,6 +244,8 @@ void BM_preprocess(benchmark::State& state, int level, int roi_percent)
 {
   const Mesh& base = armadillo(level);
   const Selection s = select(base, roi_percent);
+  last_factor = Factor_record();
+  const Memory_probe memory;
   for(auto _ : state)
   {
     state.PauseTiming();
@@ -120,6 +256,8 @@ void BM_preprocess(benchmark::State& state, int level, int roi_percent)
     if(!d.preprocess())
       state.SkipWithError("preprocess failed");
   }
+  memory.report(state);
+  report_factor(state);
   state.counters["vertices"] = double(num_vertices(base));
   state.counters["roi"] = double(s.roi.size());
 }
@@ -137,6 +275,8 @@ void BM_iteration(benchmark::State& state, int level, int roi_percent)
 {
   const Mesh& base = armadillo(level);
   const Selection s = select(base, roi_percent);
+  last_factor = Factor_record();
+  const Memory_probe memory;
   Mesh m = base;
   typename Method::Deformer d(m);
   Method::insert(d, s);
@@ -164,6 +304,8 @@ void BM_iteration(benchmark::State& state, int level, int roi_percent)
     state.counters["rhs_ms"] = benchmark::Counter(1e3 * rhs, benchmark::Counter::kAvgIterations);
     state.counters["solve_ms"] = benchmark::Counter(1e3 * solve, benchmark::Counter::kAvgIterations);
   }
+  memory.report(state);
+  report_factor(state);
   state.counters["vertices"] = double(num_vertices(base));
   state.counters["roi"] = double(s.roi.size());
 }
@@ -212,6 +354,10 @@ int main(int argc, char** argv)
   benchmark::Initialize(&count, args.data());
   if(benchmark::ReportUnrecognizedArguments(count, args.data()))
     return 1;
+  for(int threads : {1, 2})
+    benchmark::RegisterBenchmark(("bandwidth/read_1GiB/threads:" + std::to_string(threads)).c_str(),
+                                 [=](benchmark::State& st) { BM_read_bandwidth(st, threads); })
+        ->Unit(benchmark::kMillisecond)->UseRealTime();
   for(int level : levels)
   {
     register_method<Ours<LD::Vertex_based_representation> >("vertex", level);

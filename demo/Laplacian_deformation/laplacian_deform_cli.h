@@ -931,6 +931,7 @@ inline const char* status_name(LD::Deformation_status s)
     case LD::NON_FINITE_RESULT: return "NON_FINITE_RESULT";
     case LD::INVALID_PARAMETER: return "INVALID_PARAMETER";
     case LD::TOPOLOGY_CHANGED: return "TOPOLOGY_CHANGED";
+    case LD::INVALID_MESH: return "INVALID_MESH";
   }
   return "UNKNOWN";
 }
