@@ -25,6 +25,8 @@
 //   and once by the backward substitution), factor_lnz (nonzeros of L), n (unknowns per coordinate).
 // - bandwidth/read_1GiB/threads:T: sums a 1 GiB array of 64-bit integers with T threads (bytes_per_second):
 //   the machine's memory read bandwidth, for the bound "solve >= 2 x factor bytes / bandwidth".
+// - memory/first_touch_256MiB: the cost of a page fault (us_per_page): every MB a case touches for
+//   the first time costs 256 of them (on this project's CI machines about 11 us each, ~2.8 ms per MB).
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_deformation.h>
@@ -42,6 +44,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -102,11 +105,10 @@ struct Factor_record
 Factor_record last_factor;
 
 #ifdef CGAL_LAPLACIAN_DEFORMATION_USE_CHOLMOD
-// Exactly Eigen::CholmodSupernodalLLT (the solver of Default_solver_traits); compute() also records.
-struct Recording_supernodal_llt
-  : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>
+// Exactly Cholmod_supernodal_llt (the solver of Default_solver_traits); compute() also records.
+struct Recording_supernodal_llt : public LD::Cholmod_supernodal_llt
 {
-  typedef Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> Base;
+  typedef LD::Cholmod_supernodal_llt Base;
   Recording_supernodal_llt& compute(const Eigen::SparseMatrix<double>& matrix)
   {
     const auto start = std::chrono::steady_clock::now();
@@ -169,6 +171,34 @@ void BM_read_bandwidth(benchmark::State& state, int threads)
   if(total != count)
     state.SkipWithError("wrong sum");
   state.SetBytesProcessed(std::int64_t(state.iterations()) * std::int64_t(count * sizeof(std::uint64_t)));
+}
+
+// ---- first touch of fresh memory: allocate 256 MiB, write one byte per 4 KiB page, free; each
+// page is a page fault. Reports us_per_page and ms_per_mb: what every megabyte of memory a case
+// touches for the first time costs on this machine before any computation.
+void BM_first_touch(benchmark::State& state)
+{
+  const std::size_t bytes = std::size_t(256) << 20, page = 4096;
+  double seconds = 0;
+  for(auto _ : state)
+  {
+    const auto t0 = std::chrono::steady_clock::now();
+    char* data = static_cast<char*>(std::malloc(bytes));     // above the mmap threshold: fresh pages
+    if(data == nullptr)
+    {
+      state.SkipWithError("out of memory");
+      return;
+    }
+    for(std::size_t i = 0; i < bytes; i += page)
+      data[i] = 1;
+    benchmark::DoNotOptimize(data);
+    benchmark::ClobberMemory();
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::free(data);
+  }
+  const double pages = double(bytes / page) * double(state.iterations());
+  state.counters["us_per_page"] = pages > 0 ? 1e6 * seconds / pages : 0.;
+  state.counters["ms_per_mb"] = pages > 0 ? 1e3 * seconds / pages * 1e6 / double(page) : 0.;
 }
 
 // the armadillo subdivided `level` times (cached in the data folder)
@@ -358,6 +388,7 @@ int main(int argc, char** argv)
     benchmark::RegisterBenchmark(("bandwidth/read_1GiB/threads:" + std::to_string(threads)).c_str(),
                                  [=](benchmark::State& st) { BM_read_bandwidth(st, threads); })
         ->Unit(benchmark::kMillisecond)->UseRealTime();
+  benchmark::RegisterBenchmark("memory/first_touch_256MiB", BM_first_touch)->Unit(benchmark::kMillisecond)->UseRealTime();
   for(int level : levels)
   {
     register_method<Ours<LD::Vertex_based_representation> >("vertex", level);

@@ -6,6 +6,7 @@
 
 #include <CGAL/Laplacian_deformation/Cholmod_solver_traits.h>
 #include <CGAL/Laplacian_deformation/Least_squares_solver.h>
+#include <CGAL/Laplacian_deformation/internal/normal_matrix.h>
 
 #include <gtest/gtest.h>
 
@@ -29,6 +30,63 @@ typedef LD::Least_squares_solver<> Default_solver;
 double relative_error(const Eigen::MatrixX3d& x, const Eigen::MatrixX3d& reference)
 {
   return (x - reference).norm() / reference.norm();
+}
+
+// CHOLMOD's Cholesky reads only the lower triangle: Least_squares_solver forms only that half of A^T A
+static_assert(LD::internal::Solver_traits_read_lower_triangle<LD::Cholmod_solver_traits>::value,
+              "CholmodSupernodalLLT<Lower> reads the lower triangle only");
+static_assert(!LD::internal::Solver_traits_read_lower_triangle<
+                  CGAL::Eigen_solver_traits<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>>>::value,
+              "an upper-triangle factorisation needs the upper triangle");
+
+// The normal matrix of a 2D grid Laplacian: large enough for supernodes of many columns with rows
+// below their diagonal block, the layout solve_columns() walks.
+Eigen::SparseMatrix<double> grid_normal_matrix(int side)
+{
+  std::vector<Eigen::Triplet<double>> t;
+  auto id = [side](int i, int j) { return i * side + j; };
+  int row = 0;
+  for(int i = 0; i < side; ++i)
+    for(int j = 0; j < side; ++j, ++row)
+    {
+      t.emplace_back(row, id(i, j), 4.5);
+      if(i > 0) t.emplace_back(row, id(i - 1, j), -1.);
+      if(i + 1 < side) t.emplace_back(row, id(i + 1, j), -1.);
+      if(j > 0) t.emplace_back(row, id(i, j - 1), -1.);
+      if(j + 1 < side) t.emplace_back(row, id(i, j + 1), -1.2);
+    }
+  Eigen::SparseMatrix<double> a(side * side, side * side);
+  a.setFromTriplets(t.begin(), t.end());
+  const Eigen::SparseMatrix<double> at = a.transpose();
+  return LD::internal::normal_matrix(a, at, true);
+}
+
+// Cholmod_supernodal_llt::solve_columns (own supernodal substitutions) == CHOLMOD's solve, for 1, 3
+// and 5 columns; bad calls return false
+TEST(CholmodSupernodalLlt, SolveColumnsMatchesCholmodSolve)
+{
+  const Eigen::SparseMatrix<double> n = grid_normal_matrix(60);
+  LD::Cholmod_supernodal_llt llt;
+  Eigen::MatrixX3d x3;
+  EXPECT_FALSE(llt.solve_columns(Eigen::MatrixX3d::Ones(n.rows(), 3), x3));      // not factored
+  llt.compute(n);
+  ASSERT_EQ(llt.info(), Eigen::Success);
+  ASSERT_NE(llt.factor(), nullptr);
+  EXPECT_TRUE(llt.factor()->is_super);
+  EXPECT_LT(llt.factor()->nsuper, n.rows() / 2);                 // real supernodes ...
+  EXPECT_GT(llt.factor()->maxesize, 0u);                         // ... with rows below the diagonal
+  const Eigen::SparseMatrix<double> full = n.selfadjointView<Eigen::Lower>();
+  for(int columns : {1, 3, 5})
+  {
+    const Eigen::MatrixXd b = Eigen::MatrixXd::Random(n.rows(), columns);
+    Eigen::MatrixXd x;
+    ASSERT_TRUE(llt.solve_columns(b, x));
+    const Eigen::MatrixXd reference = llt.solve(b);
+    EXPECT_LE((x - reference).norm(), 1e-12 * reference.norm()) << columns << " columns";
+    EXPECT_LE((full * x - b).norm(), 1e-10 * b.norm()) << columns << " columns";
+  }
+  EXPECT_FALSE(llt.solve_columns(Eigen::MatrixX3d::Ones(n.rows() - 1, 3), x3));  // wrong size
+  EXPECT_FALSE(llt.solve_columns(Eigen::MatrixX3d::Constant(n.rows(), 3, std::numeric_limits<double>::infinity()), x3));
 }
 
 TEST(CholmodSolverTraits, MatchesDefaultSolver)

@@ -7,13 +7,17 @@
 
 #include <CGAL/Laplacian_deformation/Least_squares_solver.h>
 
+#include <CGAL/Laplacian_deformation/internal/normal_matrix.h>
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
 #include <Eigen/QR>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -325,6 +329,94 @@ TEST(LeastSquaresSolver, PerColumnFallbackWithFactorTraitsArchetype)
   singular.prune([](Eigen::Index, Eigen::Index col, double) { return col != 5; });
   EXPECT_FALSE(solver.factor(singular));
   EXPECT_EQ(solver.info(), Solver::FACTORIZATION_FAILED);
+}
+
+} // namespace
+
+namespace {
+
+Eigen::SparseMatrix<double> random_sparse(Eigen::Index rows, Eigen::Index cols, int per_row, unsigned seed)
+{
+  std::mt19937 g(seed);
+  std::uniform_int_distribution<int> col(0, int(cols) - 1);
+  std::normal_distribution<double> value;
+  std::vector<Eigen::Triplet<double>> t;
+  for(Eigen::Index r = 0; r < rows; ++r)
+    for(int k = 0; k < per_row; ++k)
+      t.emplace_back(int(r), col(g), value(g));          // duplicates are summed
+  Eigen::SparseMatrix<double> a(rows, cols);
+  a.setFromTriplets(t.begin(), t.end());
+  return a;
+}
+
+// internal::normal_matrix: the same numbers as Eigen's A^T A, in full or as its lower triangle,
+// also for an uncompressed A
+TEST(NormalMatrix, MatchesEigenProductFullAndLower)
+{
+  for(unsigned seed : {4u, 5u})
+  {
+    Eigen::SparseMatrix<double> a = random_sparse(3000, 1200, 4, seed);
+    const Eigen::SparseMatrix<double> at = a.transpose();
+    const Eigen::SparseMatrix<double> reference = Eigen::SparseMatrix<double>(at * a);
+    const Eigen::SparseMatrix<double> full = LD::internal::normal_matrix(a, at, false);
+    const Eigen::SparseMatrix<double> lower = LD::internal::normal_matrix(a, at, true);
+    EXPECT_TRUE(full.isCompressed());
+    EXPECT_EQ(full.nonZeros(), reference.nonZeros());
+    EXPECT_LE((full - reference).norm(), 1e-14 * reference.norm());
+    const Eigen::SparseMatrix<double> reference_lower = reference.triangularView<Eigen::Lower>();
+    EXPECT_EQ(lower.nonZeros(), reference_lower.nonZeros());
+    EXPECT_LE((lower - reference_lower).norm(), 1e-14 * reference.norm());
+    // on TBB's threads (when linked): the same entries, bit for bit
+    const Eigen::SparseMatrix<double> parallel = LD::internal::normal_matrix(a, at, true, true);
+    ASSERT_EQ(parallel.nonZeros(), lower.nonZeros());
+    EXPECT_TRUE(std::equal(lower.valuePtr(), lower.valuePtr() + lower.nonZeros(), parallel.valuePtr()));
+    EXPECT_TRUE(std::equal(lower.innerIndexPtr(), lower.innerIndexPtr() + lower.nonZeros(), parallel.innerIndexPtr()));
+    for(Eigen::Index j = 0; j < lower.outerSize(); ++j)       // sorted columns, lower triangle only
+      for(Eigen::SparseMatrix<double>::InnerIterator it(lower, j); it; ++it)
+        EXPECT_GE(it.row(), j);
+    a.coeffRef(0, 0) += 1.;                                   // may uncompress
+    a.uncompress();
+    const Eigen::SparseMatrix<double> at2 = a.transpose();
+    EXPECT_LE((LD::internal::normal_matrix(a, at2, false) - Eigen::SparseMatrix<double>(at2 * a)).norm(),
+              1e-14 * reference.norm());
+  }
+}
+
+// which traits get only the lower triangle
+static_assert(LD::internal::Solver_traits_read_lower_triangle<LD::Eigen_simplicial_solver_traits>::value,
+              "SimplicialLLT reads the lower triangle only");
+static_assert(LD::internal::Solver_traits_read_lower_triangle<
+                  CGAL::Eigen_solver_traits<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>>::value,
+              "SimplicialLDLT reads the lower triangle only");
+static_assert(!LD::internal::Solver_traits_read_lower_triangle<CGAL::Eigen_solver_traits<>>::value,
+              "BiCGSTAB needs the full matrix");
+static_assert(!LD::internal::Solver_traits_read_lower_triangle<
+                  CGAL::Eigen_solver_traits<Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Upper>>>::value,
+              "an upper-triangle factorisation needs the upper triangle");
+static_assert(!LD::internal::Solver_traits_read_lower_triangle<Archetype_factor_traits>::value,
+              "unknown traits get the full matrix");
+
+// solve_normal_equations(A^T B) == solve(B); a wrong number of rows fails with SOLVE_FAILED; a solver
+// that reads the whole matrix (SparseLU) and the lower-triangle default give the same solution
+TEST(LeastSquaresSolver, SolveNormalEquationsMatchesSolve)
+{
+  const Eigen::SparseMatrix<double> a = random_sparse(200, 60, 5, 7);
+  const Eigen::MatrixX3d b = Eigen::MatrixX3d::Random(200, 3);
+  LD::Least_squares_solver<> solver;
+  ASSERT_TRUE(solver.factor(a));
+  Eigen::MatrixX3d x, y, z;
+  ASSERT_TRUE(solver.solve(b, x));
+  ASSERT_TRUE(solver.solve_normal_equations(Eigen::MatrixX3d(solver.transposed_matrix() * b), y));
+  EXPECT_EQ(x, y);
+  EXPECT_FALSE(solver.solve_normal_equations(Eigen::MatrixX3d::Zero(59, 3), z));
+  EXPECT_EQ(solver.info(), LD::Least_squares_solver<>::SOLVE_FAILED);
+
+  typedef CGAL::Eigen_solver_traits<Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>>> Lu;
+  static_assert(!LD::internal::Solver_traits_read_lower_triangle<Lu>::value, "SparseLU reads the whole matrix");
+  LD::Least_squares_solver<Lu> lu;
+  ASSERT_TRUE(lu.factor(a));
+  ASSERT_TRUE(lu.solve(b, z));
+  EXPECT_LE((z - x).norm(), 1e-10 * x.norm());
 }
 
 } // namespace

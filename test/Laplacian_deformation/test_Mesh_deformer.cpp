@@ -465,6 +465,32 @@ TEST(MeshDeformer, RefactorsOnlyWhenTheSystemChanges)
   EXPECT_EQ(d.number_of_factorizations(), 4u);
 }
 
+// The known part K p_known of the right-hand side is cached between deform() calls until a known
+// position changes. With Fixed_transform (T = I) every iteration is the unique minimiser for the
+// current targets, whatever came before: after moving the targets, deform(1) must give what a
+// fresh deformer gives for the new targets (a stale cache would keep the old targets' pull).
+TEST(MeshDeformer, MovedTargetsRefreshTheCachedKnownPart)
+{
+  typedef LD::Mesh_deformer<Surface_mesh, LD::Edge_based_representation, LD::Cotangent_weights,
+                            LD::Fixed_transform> Deformer;
+  Surface_mesh m = bumpy_plane(), fresh = bumpy_plane();
+  const Task task = patch_task(m);
+  Deformer d(m);
+  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  d.insert_control_vertices(task.controls.begin(), task.controls.end());
+  d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0, 0, 0.3));
+  ASSERT_TRUE(d.deform(1, 0.));
+  ASSERT_TRUE(d.deform(1, 0.));                      // same targets: the cached part is reused
+  const auto first = positions(m);
+  d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0.2, 0, 0.1));
+  ASSERT_TRUE(d.deform(1, 0.));
+  EXPECT_GT(max_distance(positions(m), first, diagonal(m)), 1e-3);
+
+  auto pull = [](const Eigen::Vector3d& p) { return Eigen::Vector3d(p + Eigen::Vector3d(0.2, 0, 0.4)); };
+  ASSERT_TRUE(run<Deformer>(fresh, task, pull, 1));
+  EXPECT_LE(max_distance(positions(m), positions(fresh), diagonal(m)), 1e-12);
+}
+
 TEST(MeshDeformer, ResetRestoresRestAndIterationsCompose)
 {
   Surface_mesh m = bumpy_plane();

@@ -6,8 +6,9 @@
 
 The Laplacian coordinate of node `a` is `delta_a = sum_{b in N(a)} w_ab (x_a - x_b)`. The
 algorithm calls the policy once per node, on the rest geometry, when it builds the Laplacian
-operator (the first `preprocess()`, and the first one after `overwrite_initial_geometry()`);
-moving targets or changing the region of interest never calls it again. The same weights,
+operator (the first `preprocess()`, and the first one after `overwrite_initial_geometry()`), in
+parallel when the deformer's `ConcurrencyTag` allows it: `weights()` is `const` and must be safe
+to call concurrently (with a different output vector per thread); moving targets or changing the region of interest never calls it again. The same weights,
 clamped to `c_ab = max(w_ab, 0)`, weight the spokes when a `DeformationTransformPolicy` fits
 the node transforms, so the policy shapes both the linear system and the local fits.
 

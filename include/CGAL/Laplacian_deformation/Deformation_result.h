@@ -59,9 +59,11 @@ struct Deformation_result
   double seconds = 0;
   /// `deform()` only: wall-clock seconds spent fitting the transforms (the local step), summed over the iterations.
   double local_step_seconds = 0;
-  /// `deform()` only: wall-clock seconds spent assembling the right-hand sides, summed over the iterations.
+  /// `deform()` only: wall-clock seconds spent assembling the right-hand sides `b = T delta - K p_known`
+  /// and `A^T b` (the input of the solve), summed over the iterations.
   double right_hand_side_seconds = 0;
-  /// `deform()` only: wall-clock seconds spent in the back-substitutions, summed over the iterations.
+  /// `deform()` only: wall-clock seconds spent in the forward and backward substitutions with the
+  /// factor of `A^T A`, summed over the iterations.
   double solve_seconds = 0;
 
   /// `true` on success.

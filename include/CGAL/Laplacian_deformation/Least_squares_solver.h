@@ -6,7 +6,9 @@
 #define CGAL_LAPLACIAN_DEFORMATION_LEAST_SQUARES_SOLVER_H
 
 #include <CGAL/Default.h>
+#include <CGAL/tags.h>
 #include <CGAL/Eigen_solver_traits.h>
+#include <CGAL/Laplacian_deformation/internal/normal_matrix.h>
 #ifdef CGAL_LAPLACIAN_DEFORMATION_USE_CHOLMOD
 #include <CGAL/Laplacian_deformation/Cholmod_solver_traits.h>
 #endif
@@ -22,6 +24,12 @@
 
 namespace CGAL {
 namespace Laplacian_deformation {
+namespace internal {
+// overload priorities: a Priority_2 argument prefers the overload taking Priority_2, then Priority_1, ...
+struct Priority_0 {};
+struct Priority_1 : Priority_0 {};
+struct Priority_2 : Priority_1 {};
+} // namespace internal
 
 /*!
 \ingroup PkgLaplacianDeformationSolver
@@ -54,7 +62,10 @@ typedef Eigen_simplicial_solver_traits Default_solver_traits;
 \brief Factor once, solve many: the least-squares solve shared by every representation and policy.
 
 `factor(A)` forms the normal matrix `N = A^T A` of the sparse system matrix `A`, keeps `A^T` and
-`N` (the wrapper owns everything the factorisation refers to) and factors `N`.
+`N` (the wrapper owns everything the factorisation refers to) and factors `N`. For traits that
+factor only the lower triangle (`Eigen_solver_traits` of `Eigen::SimplicialLLT`,
+`Eigen::SimplicialLDLT` or a CHOLMOD Cholesky with `Eigen::Lower`, such as
+`Cholmod_solver_traits`) only that triangle of `N` is formed and kept.
 `solve(B, X)` then minimises `|A X - B|^2` for the three columns of `B` at once:
 `X = N^{-1} A^T B`. Nothing is refactored when only `B` changes.
 
@@ -63,8 +74,11 @@ constructible from an `Eigen::SparseMatrix<double>` (as CGAL's `Eigen_solver_tra
 When it also exposes `solver()` returning an Eigen solver (as `Eigen_solver_traits` does), the
 three columns go through one block solve; otherwise through `linear_solver()` per column.
 `CGAL::Default` means `Default_solver_traits`; see also `Cholmod_solver_traits`.
+\tparam ConcurrencyTag `CGAL::Sequential_tag`, `CGAL::Parallel_tag` or
+`CGAL::Parallel_if_available_tag`: whether `factor()` forms `A^T A` on \tbb's threads (the
+entries are the same either way).
 */
-template <class SolverTraits = CGAL::Default>
+template <class SolverTraits = CGAL::Default, class ConcurrencyTag = CGAL::Sequential_tag>
 class Least_squares_solver
 {
 public:
@@ -90,9 +104,11 @@ public:
         if(!std::isfinite(it.value()))
           return fail(NOT_FINITE);
     m_transposed = a.transpose();
-    Eigen::SparseMatrix<double> normal = m_transposed * a;
-    normal.makeCompressed();
-    m_matrix = Matrix(normal);     // owned: the traits keep a pointer to it
+    // only the lower triangle when the traits read no more of it (Cholesky factorisations)
+    m_matrix = Matrix(internal::normal_matrix(a, m_transposed,
+                                              internal::Solver_traits_read_lower_triangle<Solver_traits>::value,
+                                              internal::runs_in_parallel<ConcurrencyTag>()));
+                                   // owned: the traits keep a pointer to it
     typename Solver_traits::NT d;
     ++m_number_of_factorizations;
     if(!m_traits.factor(m_matrix, d))
@@ -108,8 +124,21 @@ public:
       return fail(NOT_FACTORED);
     if(!b.allFinite())
       return fail(NOT_FINITE);
-    const Eigen::MatrixX3d rhs = m_transposed * b;
-    if(!block_solve(rhs, x, 0))
+    return solve_normal_equations(m_transposed * b, x);
+  }
+
+  /// solves `A^T A X = R` for a right-hand side `R = A^T B` the caller has already formed
+  /// (for example in parallel, or once for the parts of `B` that do not change).
+  /// A `R` whose number of rows is not `number_of_unknowns()` fails with `SOLVE_FAILED`.
+  bool solve_normal_equations(const Eigen::MatrixX3d& r, Eigen::MatrixX3d& x)
+  {
+    if(!m_factored)
+      return fail(NOT_FACTORED);
+    if(r.rows() != number_of_unknowns())
+      return fail(SOLVE_FAILED);
+    if(!r.allFinite())
+      return fail(NOT_FINITE);
+    if(!block_solve(r, x, internal::Priority_2()))
       return fail(SOLVE_FAILED);
     if(!x.allFinite())
       return fail(NOT_FINITE);
@@ -122,6 +151,8 @@ public:
   bool is_factored() const { return m_factored; }
   /// the number of factorisations performed since construction.
   std::size_t number_of_factorizations() const { return m_number_of_factorizations; }
+  /// `A^T` (compressed, sorted), as kept since the last successful `factor()`: its column `r` is row `r` of `A`.
+  const Eigen::SparseMatrix<double>& transposed_matrix() const { return m_transposed; }
   /// the number of unknowns per coordinate.
   Eigen::Index number_of_unknowns() const { return m_transposed.rows(); }
   /// the solver traits (for example to tune the underlying solver; settings are kept across factorisations).
@@ -133,16 +164,23 @@ private:
 
   bool fail(Info info) { m_info = info; return false; }
 
-  // one block solve when the traits expose an Eigen solver ...
+  // the solver's own multi-column solve (Cholmod_supernodal_llt::solve_columns()) ...
   template <class T = Solver_traits>
-  auto block_solve(const Eigen::MatrixX3d& rhs, Eigen::MatrixX3d& x, int)
+  auto block_solve(const Eigen::MatrixX3d& rhs, Eigen::MatrixX3d& x, internal::Priority_2)
+      -> decltype(std::declval<T&>().solver().solve_columns(rhs, x), bool())
+  {
+    return m_traits.solver().solve_columns(rhs, x);
+  }
+  // ... or one block solve when the traits expose an Eigen solver ...
+  template <class T = Solver_traits>
+  auto block_solve(const Eigen::MatrixX3d& rhs, Eigen::MatrixX3d& x, internal::Priority_1)
       -> decltype(std::declval<T&>().solver().solve(rhs), bool())
   {
     x = m_traits.solver().solve(rhs);
     return m_traits.solver().info() == Eigen::Success;
   }
   // ... otherwise one linear_solver() call per column
-  bool block_solve(const Eigen::MatrixX3d& rhs, Eigen::MatrixX3d& x, long)
+  bool block_solve(const Eigen::MatrixX3d& rhs, Eigen::MatrixX3d& x, internal::Priority_0)
   {
     x.resize(rhs.rows(), 3);
     for(int c = 0; c < 3; ++c)

@@ -59,7 +59,7 @@ and the next `preprocess()` or `deform()` fails with `INVALID_PARAMETER`.
 \tparam TransformPolicy a model of `DeformationTransformPolicy`; `CGAL::Default`: `Scaled_rotation_transform`
 \tparam SolverTraits a model of `SparseLinearAlgebraWithFactorTraits_d` (see `Least_squares_solver`); `CGAL::Default`: `Default_solver_traits`
 \tparam VertexPointMap a model of `ReadWritePropertyMap` from vertices to points; `CGAL::Default`: the internal point map
-\tparam ConcurrencyTag `CGAL::Sequential_tag`, `CGAL::Parallel_tag` or `CGAL::Parallel_if_available_tag` for the local step
+\tparam ConcurrencyTag `CGAL::Sequential_tag`, `CGAL::Parallel_tag` or `CGAL::Parallel_if_available_tag`: whether the local step, the right-hand sides, the rest-cell weights and `A^T A` use \tbb's threads (then the weight and transform policies are called from several threads at once; the results do not depend on it up to round-off, see \ref LapDefPerformance)
 */
 template <class TriangleMesh, class Representation = CGAL::Default, class WeightPolicy = CGAL::Default,
           class TransformPolicy = CGAL::Default, class SolverTraits = CGAL::Default,
@@ -463,7 +463,8 @@ private:
     m_nodes.emplace(m_tm, m_vpm);
     m_stencils = internal::laplacian_stencils(*m_nodes, m_number_of_vertices, m_vim);
     internal::node_positions(m_stencils, m_rest, m_rest_nodes);
-    internal::compute_weights(m_stencils, m_rest_nodes, Weight_policy(), Geom_traits());
+    internal::compute_weights(m_stencils, m_rest_nodes, Weight_policy(), Geom_traits(),
+                              internal::runs_in_parallel<ConcurrencyTag>());
     m_d = internal::laplacian_operator(m_stencils);
     Eigen::MatrixX3d p(m_rest.size(), 3);
     for(std::size_t v = 0; v < m_rest.size(); ++v)
@@ -492,7 +493,7 @@ private:
   std::vector<Point> m_target;
   std::optional<Nodes> m_nodes;
   internal::Laplacian_stencils m_stencils;
-  Eigen::SparseMatrix<double> m_d;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> m_d;
   Eigen::MatrixX3d m_delta;
   std::vector<Eigen::Vector3d> m_rest_nodes;
   internal::Deformation_core<Transform_policy, Solver_traits, ConcurrencyTag> m_core;

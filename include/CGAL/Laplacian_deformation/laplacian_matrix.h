@@ -93,8 +93,8 @@ Eigen::SparseMatrix<double> laplacian_matrix(const TriangleMesh& tm,
   const auto vim = CGAL::get_initialized_vertex_index_map(tm, np);
   const auto gt = choose_parameter<typename GetGeomTraits<TriangleMesh, NamedParameters>::type>(
       get_parameter(np, CGAL::internal_np::geom_traits));
-  return internal::laplacian_operator(
-      internal::weighted_stencils(tm, representation, weights, vpm, vim, gt));
+  return Eigen::SparseMatrix<double>(internal::laplacian_operator(
+      internal::weighted_stencils(tm, representation, weights, vpm, vim, gt)));
 }
 
 } // namespace Laplacian_deformation

@@ -9,13 +9,10 @@
 #include <CGAL/Laplacian_deformation/Least_squares_solver.h>
 #include <CGAL/Laplacian_deformation/Node_cell.h>
 #include <CGAL/Laplacian_deformation/internal/Laplacian_stencils.h>
+#include <CGAL/Laplacian_deformation/internal/parallel.h>
 
 #include <CGAL/tags.h>
 
-#ifdef CGAL_LINKED_WITH_TBB
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#endif
 
 #include <chrono>
 
@@ -50,8 +47,10 @@ template <class TransformPolicy, class SolverTraits, class ConcurrencyTag>
 class Deformation_core
 {
 public:
-  // `d`: the full operator (nodes x vertices); `delta` = D p_rest; `rest_nodes` = P p_rest.
-  Deformation_result preprocess(const Laplacian_stencils& s, const Eigen::SparseMatrix<double>& d,
+  typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Operator;
+
+  // `d`: the full operator (nodes x vertices, by rows); `delta` = D p_rest; `rest_nodes` = P p_rest.
+  Deformation_result preprocess(const Laplacian_stencils& s, const Operator& d,
                                 const Eigen::MatrixX3d& delta,
                                 const std::vector<Eigen::Vector3d>& rest_nodes,
                                 const std::vector<unsigned char>& role, double soft_weight)
@@ -72,38 +71,30 @@ public:
       }
     const Eigen::Index nu = static_cast<Eigen::Index>(m_unknowns.size());
 
-    // rows: every node whose stencil touches an unknown vertex
-    std::vector<long> row_of(s.number_of_nodes, -1);
+    // rows: every node whose row of D touches an unknown vertex, in increasing order
     m_rows.clear();
-    for(std::size_t v : m_unknowns)
-      for(Eigen::SparseMatrix<double>::InnerIterator it(d, Eigen::Index(v)); it; ++it)
-        if(row_of[it.row()] < 0)
+    for(std::size_t a = 0; a < s.number_of_nodes; ++a)
+      for(Operator::InnerIterator it(d, Eigen::Index(a)); it; ++it)
+        if(m_unknown_index[std::size_t(it.col())] >= 0)
         {
-          row_of[it.row()] = 0;
-          m_rows.push_back(static_cast<std::size_t>(it.row()));
+          m_rows.push_back(a);
+          break;
         }
-    std::sort(m_rows.begin(), m_rows.end());
-    for(std::size_t r = 0; r < m_rows.size(); ++r)
-      row_of[m_rows[r]] = static_cast<long>(r);
     const Eigen::Index nr = static_cast<Eigen::Index>(m_rows.size());
 
     // split D[rows, :] into the unknown block A and the known block K, both assembled in
-    // compressed column form straight from D's columns (rows stay sorted: row_of is monotone)
+    // compressed column form from D's rows taken in increasing order (so every column is sorted)
     m_soft.clear();
     for(std::size_t j = 0; j < m_unknowns.size(); ++j)
       if(role[m_unknowns[j]] == SOFT_CONTROL_VERTEX)
         m_soft.push_back(j);
     std::vector<int> a_outer(std::size_t(nu) + 1, 0), k_outer(n + 1, 0);
-    for(std::size_t v = 0; v < n; ++v)
-    {
-      int count = 0;
-      for(Eigen::SparseMatrix<double>::InnerIterator it(d, Eigen::Index(v)); it; ++it)
-        count += row_of[it.row()] >= 0;
-      if(m_unknown_index[v] >= 0)
-        a_outer[std::size_t(m_unknown_index[v]) + 1] = count;
-      else
-        k_outer[v + 1] = count;
-    }
+    for(std::size_t a : m_rows)
+      for(Operator::InnerIterator it(d, Eigen::Index(a)); it; ++it)
+      {
+        const long j = m_unknown_index[std::size_t(it.col())];
+        ++(j >= 0 ? a_outer[std::size_t(j) + 1] : k_outer[std::size_t(it.col()) + 1]);
+      }
     for(std::size_t j : m_soft)
       ++a_outer[j + 1];
     std::partial_sum(a_outer.begin(), a_outer.end(), a_outer.begin());
@@ -119,30 +110,33 @@ public:
     std::vector<char> row_has_known(m_rows.size(), 0);
     Union_find components(m_unknowns.size());
     double sum_squares = 0;
-    for(std::size_t v = 0; v < n; ++v)
     {
-      const long j = m_unknown_index[v];
-      int next = j >= 0 ? a_outer[std::size_t(j)] : k_outer[v];
-      for(Eigen::SparseMatrix<double>::InnerIterator it(d, Eigen::Index(v)); it; ++it)
+      std::vector<int> next_a(a_outer.begin(), a_outer.end() - 1), next_k(k_outer.begin(), k_outer.end() - 1);
+      for(std::size_t r = 0; r < m_rows.size(); ++r)
       {
-        const long r = row_of[it.row()];
-        if(r < 0)
-          continue;
-        if(j >= 0)
+        long& first = first_unknown[r];
+        for(Operator::InnerIterator it(d, Eigen::Index(m_rows[r])); it; ++it)
         {
-          m_a.innerIndexPtr()[next] = int(r);
-          m_a.valuePtr()[next++] = it.value();
-          sum_squares += it.value() * it.value();
-          if(first_unknown[r] < 0)
-            first_unknown[r] = j;
+          const std::size_t v = std::size_t(it.col());
+          const long j = m_unknown_index[v];
+          if(j >= 0)
+          {
+            const int k = next_a[std::size_t(j)]++;
+            m_a.innerIndexPtr()[k] = int(r);
+            m_a.valuePtr()[k] = it.value();
+            sum_squares += it.value() * it.value();
+            if(first < 0)
+              first = j;
+            else
+              components.join(std::size_t(first), std::size_t(j));
+          }
           else
-            components.join(std::size_t(first_unknown[r]), std::size_t(j));
-        }
-        else
-        {
-          m_known.innerIndexPtr()[next] = int(r);
-          m_known.valuePtr()[next++] = it.value();
-          row_has_known[r] = 1;
+          {
+            const int k = next_k[v]++;
+            m_known.innerIndexPtr()[k] = int(r);
+            m_known.valuePtr()[k] = it.value();
+            row_has_known[r] = 1;
+          }
         }
       }
     }
@@ -185,23 +179,17 @@ public:
       return result;
     }
 
-    // per-row cell data for the local step
+    // per-row data for the local step: delta; the cells (rest and current edges, fit weights)
+    // are gathered per row in the local step, from m_rest_nodes and the stencils
     m_delta.resize(nr, 3);
-    m_spoke_start.assign(1, 0);
-    m_rest_edges.clear();
-    m_fit_weights.clear();
+    m_max_degree = 0;
     for(std::size_t r = 0; r < m_rows.size(); ++r)
     {
       const std::size_t a = m_rows[r];
       m_delta.row(Eigen::Index(r)) = delta.row(Eigen::Index(a));
-      for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
-      {
-        m_rest_edges.push_back(rest_nodes[a] - rest_nodes[s.neighbor[k]]);
-        m_fit_weights.push_back((std::max)(s.weight[k], 0.));
-      }
-      m_spoke_start.push_back(m_rest_edges.size());
+      m_max_degree = (std::max)(m_max_degree, s.degree(a));
     }
-    m_current_edges.assign(m_rest_edges.size(), Eigen::Vector3d::Zero());
+    m_rest_nodes = &rest_nodes;
     // the nodes the local step evaluates: the rows and their neighbours, each once
     std::vector<char> needed(s.number_of_nodes, 0);
     for(std::size_t a : m_rows)
@@ -216,6 +204,13 @@ public:
         m_needed_nodes.push_back(a);
     m_node_positions.assign(s.number_of_nodes, Eigen::Vector3d::Zero());
     m_transforms.assign(m_rows.size(), Eigen::Matrix3d::Identity());
+    m_known_vertices.clear();
+    for(std::size_t v = 0; v < n; ++v)
+      if(m_known.outerIndexPtr()[v + 1] > m_known.outerIndexPtr()[v])
+        m_known_vertices.push_back(v);
+    m_known_positions.clear();
+    m_known_part.setZero(nr, 3);
+    m_row_energy.assign(std::size_t(m_a.rows()), 0.);
     m_has_solution = false;
     m_ready = true;
     return result;
@@ -232,11 +227,11 @@ public:
     if(nu == 0)
       return result;
 
-    Eigen::MatrixX3d known(positions.size(), 3);
-    for(std::size_t v = 0; v < positions.size(); ++v)
-      known.row(Eigen::Index(v)) = positions[v].transpose();
-    const Eigen::MatrixX3d known_part = m_known * known;
-    Eigen::MatrixX3d b(m_a.rows(), 3), x;
+    update_known_part(positions);
+    // b, rhs and x are kept across calls: the CLI and the editor call deform(1) per iteration
+    Eigen::MatrixX3d &b = m_b, &rhs = m_rhs, &x = m_x;
+    b.resize(m_a.rows(), 3);
+    rhs.resize(nu, 3);
     for(std::size_t k = 0; k < m_soft.size(); ++k)
       b.row(nr + Eigen::Index(k)) = m_lambda * positions[m_unknowns[m_soft[k]]].transpose();
 
@@ -255,11 +250,10 @@ public:
         local_step(current);
       result.local_step_seconds += seconds_since(t0);
       t0 = Clock::now();
-      for(Eigen::Index r = 0; r < nr; ++r)
-        b.row(r) = (m_transforms[std::size_t(r)] * m_delta.row(r).transpose()).transpose() - known_part.row(r);
+      right_hand_side(b, rhs);
       result.right_hand_side_seconds += seconds_since(t0);
       t0 = Clock::now();
-      const bool solved = m_solver.solve(b, x);
+      const bool solved = m_solver.solve_normal_equations(rhs, x);
       result.solve_seconds += seconds_since(t0);
       if(!solved)
       {
@@ -277,7 +271,7 @@ public:
       }
       m_solution = x;
       m_has_solution = true;
-      result.energies.push_back((m_a * x - b).squaredNorm());
+      result.energies.push_back(energy(x, b));
       result.last_change = diagonal > 0 ? change / diagonal : change;
       ++result.iterations;
       if(result.last_change <= tolerance)
@@ -332,18 +326,67 @@ private:
   template <class F>
   static void for_each_block(std::size_t n, const F& f)
   {
-#ifdef CGAL_LINKED_WITH_TBB
-    if(std::is_convertible<ConcurrencyTag, CGAL::Parallel_tag>::value)
-    {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256),
-                        [&f](const tbb::blocked_range<std::size_t>& range) { f(range.begin(), range.end()); });
-      return;
-    }
-#endif
-    f(std::size_t(0), n);
+    internal::for_each_block(n, runs_in_parallel<ConcurrencyTag>(), f);
   }
 
-  // fits T_a for every row node, in parallel when ConcurrencyTag allows it; allocation-free
+  // K p_known, recomputed only when a known position differs from the last call's (the CLI and
+  // the editor call deform(1) once per iteration; the targets move only between drags)
+  void update_known_part(const std::vector<Eigen::Vector3d>& positions)
+  {
+    bool same = m_known_positions.size() == m_known_vertices.size();
+    for(std::size_t i = 0; same && i < m_known_vertices.size(); ++i)
+      same = m_known_positions[i] == positions[m_known_vertices[i]];
+    if(same)
+      return;
+    m_known_positions.resize(m_known_vertices.size());
+    m_known_part.setZero();
+    for(std::size_t i = 0; i < m_known_vertices.size(); ++i)
+    {
+      const std::size_t v = m_known_vertices[i];
+      const Eigen::Vector3d& p = m_known_positions[i] = positions[v];
+      for(Eigen::SparseMatrix<double>::InnerIterator it(m_known, Eigen::Index(v)); it; ++it)
+        m_known_part.row(it.row()) += it.value() * p.transpose();
+    }
+  }
+
+  // b = T delta - K p_known on the Laplacian rows (the soft rows of b are set once per call),
+  // and A^T b, one unknown (a column of A) per task: no two tasks write the same entry
+  void right_hand_side(Eigen::MatrixX3d& b, Eigen::MatrixX3d& rhs) const
+  {
+    for_each_block(m_rows.size(), [&](std::size_t begin, std::size_t end) {
+      for(std::size_t r = begin; r < end; ++r)
+        b.row(Eigen::Index(r)) = (m_transforms[r] * m_delta.row(Eigen::Index(r)).transpose()).transpose() -
+                                 m_known_part.row(Eigen::Index(r));
+    });
+    for_each_block(std::size_t(m_a.cols()), [&](std::size_t begin, std::size_t end) {
+      for(std::size_t j = begin; j < end; ++j)
+      {
+        Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+        for(Eigen::SparseMatrix<double>::InnerIterator it(m_a, Eigen::Index(j)); it; ++it)
+          sum += it.value() * b.row(it.row());
+        rhs.row(Eigen::Index(j)) = sum;
+      }
+    });
+  }
+
+  // |A x - b|^2, one row of A (a column of A^T) per task, summed in row order (deterministic)
+  double energy(const Eigen::MatrixX3d& x, const Eigen::MatrixX3d& b)
+  {
+    const Eigen::SparseMatrix<double>& at = m_solver.transposed_matrix();
+    for_each_block(m_row_energy.size(), [&](std::size_t begin, std::size_t end) {
+      for(std::size_t r = begin; r < end; ++r)
+      {
+        Eigen::RowVector3d residual = -b.row(Eigen::Index(r));
+        for(Eigen::SparseMatrix<double>::InnerIterator it(at, Eigen::Index(r)); it; ++it)
+          residual += it.value() * x.row(it.row());
+        m_row_energy[r] = residual.squaredNorm();
+      }
+    });
+    return std::accumulate(m_row_energy.begin(), m_row_energy.end(), 0.);
+  }
+
+  // fits T_a for every row node, in parallel when ConcurrencyTag allows it; each block of rows
+  // gathers its cells into buffers of its own (one allocation per block, none per row)
   void local_step(const std::vector<Eigen::Vector3d>& p)
   {
     const Laplacian_stencils& s = *m_stencils;
@@ -357,15 +400,22 @@ private:
         m_node_positions[a] = x;
       }
     });
+    const std::vector<Eigen::Vector3d>& rest = *m_rest_nodes;
     for_each_block(m_rows.size(), [&](std::size_t begin, std::size_t end) {
+      std::vector<Eigen::Vector3d> rest_edges(m_max_degree), current_edges(m_max_degree);
+      std::vector<double> fit_weights(m_max_degree);
       for(std::size_t r = begin; r < end; ++r)
       {
-        const std::size_t a = m_rows[r], first = m_spoke_start[r];
-        const Eigen::Vector3d& xa = m_node_positions[a];
-        for(std::size_t k = s.neighbor_start[a], i = first; k < s.neighbor_start[a + 1]; ++k, ++i)
-          m_current_edges[i] = xa - m_node_positions[s.neighbor[k]];
-        const Transform_cell cell(m_rest_edges.data() + first, m_current_edges.data() + first,
-                                  m_fit_weights.data() + first, m_spoke_start[r + 1] - first);
+        const std::size_t a = m_rows[r], first = s.neighbor_start[a], degree = s.neighbor_start[a + 1] - first;
+        const Eigen::Vector3d &xa = m_node_positions[a], &ra = rest[a];
+        for(std::size_t i = 0; i < degree; ++i)
+        {
+          const std::size_t b = s.neighbor[first + i];
+          rest_edges[i] = ra - rest[b];
+          current_edges[i] = xa - m_node_positions[b];
+          fit_weights[i] = (std::max)(s.weight[first + i], 0.);
+        }
+        const Transform_cell cell(rest_edges.data(), current_edges.data(), fit_weights.data(), degree);
         const Eigen::Matrix3d t = m_policy.transform(cell);
         m_transforms[r] = t.allFinite() ? t : Eigen::Matrix3d::Identity();
       }
@@ -374,15 +424,21 @@ private:
 
   const Laplacian_stencils* m_stencils = nullptr;
   TransformPolicy m_policy;
-  Least_squares_solver<SolverTraits> m_solver;
+  Least_squares_solver<SolverTraits, ConcurrencyTag> m_solver;
   std::vector<long> m_unknown_index;
-  std::vector<std::size_t> m_unknowns, m_rows, m_needed_nodes, m_soft, m_spoke_start;
+  std::vector<std::size_t> m_unknowns, m_rows, m_needed_nodes, m_soft;
+  std::size_t m_max_degree = 0;
+  const std::vector<Eigen::Vector3d>* m_rest_nodes = nullptr;   // P p_rest, owned by the caller
   Eigen::SparseMatrix<double> m_a, m_known;
   double m_lambda = 0;
   Eigen::MatrixX3d m_delta, m_solution;
-  std::vector<Eigen::Vector3d> m_rest_edges, m_current_edges, m_node_positions;
-  std::vector<double> m_fit_weights;
+  std::vector<Eigen::Vector3d> m_node_positions;
   std::vector<Eigen::Matrix3d> m_transforms;
+  std::vector<std::size_t> m_known_vertices;        // the vertices with a column in K
+  std::vector<Eigen::Vector3d> m_known_positions;   // their positions when m_known_part was computed
+  Eigen::MatrixX3d m_known_part;                    // K p_known
+  Eigen::MatrixX3d m_b, m_rhs, m_x;                 // right-hand side, A^T b, solution
+  std::vector<double> m_row_energy;
   bool m_has_solution = false;
   bool m_ready = false;
 };

@@ -6,6 +6,7 @@
 #define CGAL_LAPLACIAN_DEFORMATION_INTERNAL_LAPLACIAN_STENCILS_H
 
 #include <CGAL/Laplacian_deformation/Node_cell.h>
+#include <CGAL/Laplacian_deformation/internal/parallel.h>
 
 #include <CGAL/assertions.h>
 
@@ -59,9 +60,26 @@ Laplacian_stencils laplacian_stencils(const Nodes& nodes, std::size_t number_of_
   for(node_descriptor a : nodes.nodes())
     by_index[nodes.index(a)] = a;
 
+  // sizes first, so that every array is allocated once at its final size (growing them would
+  // touch about twice the memory, and first touches of fresh pages are slow on some machines)
+  std::size_t combination_size = 0, neighbor_size = 0, fan_size = 0;
+  for(const node_descriptor& a : by_index)
+  {
+    nodes.combination(a, [&](auto, double) { ++combination_size; });
+    for(node_descriptor b : nodes.neighbors(a))
+    {
+      (void)b;
+      ++neighbor_size;
+    }
+    nodes.fan_triangles(a, [&](node_descriptor, node_descriptor) { ++fan_size; });
+  }
   s.combination_start.reserve(s.number_of_nodes + 1);
   s.neighbor_start.reserve(s.number_of_nodes + 1);
   s.fan_start.reserve(s.number_of_nodes + 1);
+  s.combination_vertex.reserve(combination_size);
+  s.combination_coefficient.reserve(combination_size);
+  s.neighbor.reserve(neighbor_size);
+  s.fan.reserve(fan_size);
   s.combination_start.push_back(0);
   s.neighbor_start.push_back(0);
   s.fan_start.push_back(0);
@@ -106,28 +124,31 @@ inline void node_positions(const Laplacian_stencils& s, const std::vector<Eigen:
       x[a] += s.combination_coefficient[k] * vertex_positions[s.combination_vertex[k]];
 }
 
-// Fills s.weight with the weight policy evaluated on every rest cell.
+// Fills s.weight with the weight policy evaluated on every rest cell; with `parallel` (and TBB)
+// the nodes are shared among TBB's threads (each cell is independent).
 template <class WeightPolicy, class GeomTraits>
 void compute_weights(Laplacian_stencils& s, const std::vector<Eigen::Vector3d>& x,
-                     const WeightPolicy& policy, const GeomTraits& gt)
+                     const WeightPolicy& policy, const GeomTraits& gt, bool parallel = false)
 {
   typedef typename GeomTraits::Point_3 Point_3;
   auto point = [](const Eigen::Vector3d& p) { return Point_3(p.x(), p.y(), p.z()); };
-  std::vector<Point_3> neighbors;
-  std::vector<double> w;
-  for(std::size_t a = 0; a < s.number_of_nodes; ++a)
-  {
-    const std::size_t first = s.neighbor_start[a], n = s.degree(a);
-    neighbors.clear();
-    for(std::size_t k = first; k < first + n; ++k)
-      neighbors.push_back(point(x[s.neighbor[k]]));
-    const Point_3 center = point(x[a]);
-    const Node_cell<GeomTraits> cell(center, neighbors.data(), n, s.fan.data() + s.fan_start[a],
-                                     s.fan_start[a + 1] - s.fan_start[a], gt);
-    policy.weights(cell, w);
-    CGAL_assertion(w.size() == n);
-    std::copy(w.begin(), w.end(), s.weight.begin() + first);
-  }
+  for_each_block(s.number_of_nodes, parallel, [&](std::size_t begin, std::size_t end) {
+    std::vector<Point_3> neighbors;
+    std::vector<double> w;
+    for(std::size_t a = begin; a < end; ++a)
+    {
+      const std::size_t first = s.neighbor_start[a], n = s.degree(a);
+      neighbors.clear();
+      for(std::size_t k = first; k < first + n; ++k)
+        neighbors.push_back(point(x[s.neighbor[k]]));
+      const Point_3 center = point(x[a]);
+      const Node_cell<GeomTraits> cell(center, neighbors.data(), n, s.fan.data() + s.fan_start[a],
+                                       s.fan_start[a + 1] - s.fan_start[a], gt);
+      policy.weights(cell, w);
+      CGAL_assertion(w.size() == n);
+      std::copy(w.begin(), w.end(), s.weight.begin() + first);
+    }
+  }, 1024);
 }
 
 // P: nodes x vertices, x = P p.
@@ -143,50 +164,53 @@ inline Eigen::SparseMatrix<double> combination_matrix(const Laplacian_stencils& 
   return p;
 }
 
-// The Laplacian operator D = L_w P (rows: nodes, columns: vertices),
+// The Laplacian operator D = L_w P (rows: nodes, columns: vertices; stored by rows),
 // delta_a = sum_b w_ab (x_a - x_b) = (D p)_a. Assembled row by row (row a combines the
-// vertices of x_a and of its neighbours), without forming L_w and the sparse product; exact
+// vertices of x_a and of its neighbours) in a dense accumulator, without forming L_w and the
+// sparse product; the terms of an entry are summed in the order neighbours, then x_a; exact
 // zeros (cancellations) are dropped.
-inline Eigen::SparseMatrix<double> laplacian_operator(const Laplacian_stencils& s)
+inline Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_operator(const Laplacian_stencils& s)
 {
   typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Row_major;
-  std::vector<int> outer(s.number_of_nodes + 1, 0), inner;
-  std::vector<double> values;
+  std::vector<int> outer(s.number_of_nodes + 1, 0), inner, touched;
+  std::vector<double> values, accumulator(s.number_of_vertices, 0.);
+  std::vector<std::size_t> mark(s.number_of_vertices, s.number_of_nodes);
   inner.reserve(4 * s.neighbor.size());
   values.reserve(4 * s.neighbor.size());
-  std::vector<std::pair<std::size_t, double>> row;
   for(std::size_t a = 0; a < s.number_of_nodes; ++a)
   {
-    row.clear();
+    touched.clear();
+    auto add = [&](std::size_t v, double value) {
+      if(mark[v] != a)
+      {
+        mark[v] = a;
+        accumulator[v] = 0.;
+        touched.push_back(int(v));
+      }
+      accumulator[v] += value;
+    };
     double diagonal = 0;
     for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
     {
       const std::size_t b = s.neighbor[k];
       diagonal += s.weight[k];
       for(std::size_t j = s.combination_start[b]; j < s.combination_start[b + 1]; ++j)
-        row.emplace_back(s.combination_vertex[j], -s.weight[k] * s.combination_coefficient[j]);
+        add(s.combination_vertex[j], -s.weight[k] * s.combination_coefficient[j]);
     }
     for(std::size_t j = s.combination_start[a]; j < s.combination_start[a + 1]; ++j)
-      row.emplace_back(s.combination_vertex[j], diagonal * s.combination_coefficient[j]);
-    std::sort(row.begin(), row.end(),
-              [](const std::pair<std::size_t, double>& x, const std::pair<std::size_t, double>& y) { return x.first < y.first; });
-    for(std::size_t i = 0; i < row.size();)
-    {
-      double sum = 0;
-      const std::size_t v = row[i].first;
-      for(; i < row.size() && row[i].first == v; ++i)
-        sum += row[i].second;
-      if(sum != 0)
+      add(s.combination_vertex[j], diagonal * s.combination_coefficient[j]);
+    std::sort(touched.begin(), touched.end());
+    for(int v : touched)
+      if(accumulator[std::size_t(v)] != 0)
       {
-        inner.push_back(int(v));
-        values.push_back(sum);
+        inner.push_back(v);
+        values.push_back(accumulator[std::size_t(v)]);
       }
-    }
     outer[a + 1] = int(inner.size());
   }
   const Eigen::Map<const Row_major> d(Eigen::Index(s.number_of_nodes), Eigen::Index(s.number_of_vertices),
                                       Eigen::Index(values.size()), outer.data(), inner.data(), values.data());
-  return Eigen::SparseMatrix<double>(d);
+  return Row_major(d);
 }
 
 } // namespace internal

@@ -42,7 +42,7 @@ inline void symmetric_eigen_jacobi_3(Eigen::Matrix3d& a, Eigen::Matrix3d& v)
   {
     const double off = a(0, 1) * a(0, 1) + a(0, 2) * a(0, 2) + a(1, 2) * a(1, 2);
     const double diag = a(0, 0) * a(0, 0) + a(1, 1) * a(1, 1) + a(2, 2) * a(2, 2);
-    if(!(off > 1e-40 * diag))              // also stops on a zero matrix and on NaN
+    if(!(off > 1e-32 * diag))              // off-diagonal at round-off; also stops on zero and NaN
       return;
     for(int k = 0; k < 3; ++k)
     {

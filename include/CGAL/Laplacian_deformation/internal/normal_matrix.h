@@ -1,0 +1,149 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+
+#ifndef CGAL_LAPLACIAN_DEFORMATION_INTERNAL_NORMAL_MATRIX_H
+#define CGAL_LAPLACIAN_DEFORMATION_INTERNAL_NORMAL_MATRIX_H
+
+#include <CGAL/Eigen_solver_traits.h>
+#include <CGAL/Laplacian_deformation/internal/parallel.h>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <cstddef>
+#include <type_traits>
+#include <vector>
+
+namespace CGAL {
+namespace Laplacian_deformation {
+namespace internal {
+
+// Whether an Eigen sparse solver reads only the lower triangle of the matrix it factors; the
+// CHOLMOD wrappers are added by Cholmod_solver_traits.h.
+template <class EigenSolver, class = void>
+struct Eigen_solver_reads_lower_triangle : std::false_type {};
+template <class M, class O>
+struct Eigen_solver_reads_lower_triangle<Eigen::SimplicialLLT<M, Eigen::Lower, O>> : std::true_type {};
+template <class M, class O>
+struct Eigen_solver_reads_lower_triangle<Eigen::SimplicialLDLT<M, Eigen::Lower, O>> : std::true_type {};
+
+// Whether the solver traits factor only the lower triangle (then the normal matrix is formed
+// for i >= j only: half the work and half the memory); any other traits get the full matrix.
+template <class SolverTraits>
+struct Solver_traits_read_lower_triangle : std::false_type {};
+template <class S>
+struct Solver_traits_read_lower_triangle<CGAL::Eigen_solver_traits<S>> : Eigen_solver_reads_lower_triangle<S> {};
+
+// N = A^T A, column by column: N(:, j) = sum over the rows r of column j of A of
+// A(r, j) * A(r, :)^T, where A(r, :)^T is column r of `at` = A^T (compressed, sorted). With
+// `lower_only`, only the entries i >= j. The result is compressed with sorted columns; every
+// structural entry is kept (also a sum that cancels to zero). A symbolic pass counts the entries
+// of each column, so that the result is allocated once; a dense accumulator and a marker per
+// thread replace the general sparse product's sorting of the whole result. With `parallel`
+// (and TBB), columns are processed on TBB's threads; every entry is the same sum in the same order.
+inline Eigen::SparseMatrix<double> normal_matrix(const Eigen::SparseMatrix<double>& a,
+                                                 const Eigen::SparseMatrix<double>& at, bool lower_only,
+                                                 bool parallel = false)
+{
+  typedef Eigen::SparseMatrix<double>::StorageIndex Index;
+  if(!a.isCompressed() || !at.isCompressed())
+  {
+    Eigen::SparseMatrix<double> a_compressed(a), at_compressed(at);
+    a_compressed.makeCompressed();
+    at_compressed.makeCompressed();
+    return normal_matrix(a_compressed, at_compressed, lower_only, parallel);
+  }
+  const Eigen::Index n = a.cols();
+  const Index* a_outer = a.outerIndexPtr();
+  const Index* a_inner = a.innerIndexPtr();
+  const double* a_value = a.valuePtr();
+  const Index* t_outer = at.outerIndexPtr();
+  const Index* t_inner = at.innerIndexPtr();
+  const double* t_value = at.valuePtr();
+  // f(i, A(r, j), A(r, i)) for every term of column j
+  auto for_each_term = [&](Index j, auto&& f) {
+    for(Index k = a_outer[j]; k < a_outer[j + 1]; ++k)
+    {
+      const Index r = a_inner[k];
+      const Index* begin = t_inner + t_outer[r];
+      const Index* end = t_inner + t_outer[r + 1];
+      for(const Index* p = lower_only ? std::lower_bound(begin, end, j) : begin; p != end; ++p)
+        f(*p, a_value[k], t_value[p - t_inner]);
+    }
+  };
+  struct Workspace
+  {
+    std::vector<Index> mark, touched;
+    std::vector<double> accumulator;
+  };
+  auto workspace = [n](Per_thread<Workspace>& per_thread) -> Workspace& {
+    Workspace& w = per_thread.local();
+    if(w.mark.size() != std::size_t(n))
+    {
+      w.mark.assign(std::size_t(n), -1);
+      w.accumulator.assign(std::size_t(n), 0.);
+    }
+    return w;
+  };
+
+  Eigen::SparseMatrix<double> result(n, n);
+  Index* outer = result.outerIndexPtr();
+  {
+    Per_thread<Workspace> per_thread(parallel);
+    outer[0] = 0;
+    for_each_block(std::size_t(n), parallel, [&](std::size_t begin, std::size_t end) {
+      Workspace& w = workspace(per_thread);
+      for(Index j = Index(begin); j < Index(end); ++j)
+      {
+        Index count = 0;
+        for_each_term(j, [&](Index i, double, double) {
+          if(w.mark[std::size_t(i)] != j)
+          {
+            w.mark[std::size_t(i)] = j;
+            ++count;
+          }
+        });
+        outer[j + 1] = count;
+      }
+    }, 512);
+  }
+  for(Eigen::Index j = 0; j < n; ++j)
+    outer[j + 1] += outer[j];
+  result.resizeNonZeros(outer[n]);
+  Index* inner = result.innerIndexPtr();
+  double* values = result.valuePtr();
+  Per_thread<Workspace> per_thread(parallel);
+  for_each_block(std::size_t(n), parallel, [&](std::size_t begin, std::size_t end) {
+    Workspace& w = workspace(per_thread);
+    for(Index j = Index(begin); j < Index(end); ++j)
+    {
+      w.touched.clear();
+      for_each_term(j, [&](Index i, double arj, double ari) {
+        if(w.mark[std::size_t(i)] != j)
+        {
+          w.mark[std::size_t(i)] = j;
+          w.accumulator[std::size_t(i)] = 0.;
+          w.touched.push_back(i);
+        }
+        w.accumulator[std::size_t(i)] += arj * ari;
+      });
+      std::sort(w.touched.begin(), w.touched.end());
+      Index next = outer[j];
+      for(Index i : w.touched)
+      {
+        inner[next] = i;
+        values[next++] = w.accumulator[std::size_t(i)];
+      }
+    }
+  }, 512);
+  return result;
+}
+
+} // namespace internal
+} // namespace Laplacian_deformation
+} // namespace CGAL
+
+#endif // CGAL_LAPLACIAN_DEFORMATION_INTERNAL_NORMAL_MATRIX_H
