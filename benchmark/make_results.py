@@ -213,8 +213,9 @@ if os.path.exists(load_file):
             loads.append(float(m.group(1)))
 machine_state = ('The 1-minute load average before, between and after the runs was %s on %s CPUs (see above)%s' % (
     ', '.join('%.2f' % x for x in loads), cores,
-    ': the machine was shared, times are indicative.' if any(x > 1.0 for x in loads) else
-    ': nothing else ran (the load is the benchmark itself).')) if loads else 'The load of the machine was not recorded.'
+    ': the machine was shared before the runs started, times are indicative.' if loads[0] > 1.0 else
+    ': nothing else ran when they started (later values include the benchmark\'s own threads). On this '
+    'virtual machine a case re-run minutes later can still differ by up to about 30% (seen: 986 and 1335 ms for the same preprocess case).')) if loads else 'The load of the machine was not recorded.'
 
 bandwidth = max([b.get('bytes_per_second', 0) for b in bandwidths] or [0])
 p('## Performance targets (issue 6)\n')
