@@ -19,6 +19,7 @@
 #include <boost/iterator/function_output_iterator.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <chrono>
@@ -465,6 +466,9 @@ private:
     internal::node_positions(m_stencils, m_rest, m_rest_nodes);
     internal::compute_weights(m_stencils, m_rest_nodes, Weight_policy(), Geom_traits(),
                               internal::runs_in_parallel<ConcurrencyTag>());
+    // the fan triangles serve the weights only: free them before the factorisation (its peak)
+    std::vector<std::array<std::size_t, 2>>().swap(m_stencils.fan);
+    std::vector<std::size_t>().swap(m_stencils.fan_start);
     m_d = internal::laplacian_operator(m_stencils);
     Eigen::MatrixX3d p(m_rest.size(), 3);
     for(std::size_t v = 0; v < m_rest.size(); ++v)

@@ -38,7 +38,8 @@ struct Laplacian_stencils
   std::vector<std::size_t> neighbor_start;
   std::vector<std::size_t> neighbor;
   std::vector<double> weight;
-  // fan triangles (x_a, x_b, x_c) as local positions of b and c in the neighbour slice of a
+  // fan triangles (x_a, x_b, x_c) as local positions of b and c in the neighbour slice of a (only
+  // compute_weights() reads them; Mesh_deformer frees them afterwards)
   std::vector<std::size_t> fan_start;
   std::vector<std::array<std::size_t, 2>> fan;
 
