@@ -214,8 +214,10 @@ if os.path.exists(load_file):
 machine_state = ('The 1-minute load average before, between and after the runs was %s on %s CPUs (see above)%s' % (
     ', '.join('%.2f' % x for x in loads), cores,
     ': the machine was shared before the runs started, times are indicative.' if loads[0] > 1.0 else
-    ': nothing else ran when they started (later values include the benchmark\'s own threads). On this '
-    'virtual machine a case re-run minutes later can still differ by up to about 30% (seen: 986 and 1335 ms for the same preprocess case).')) if loads else 'The load of the machine was not recorded.'
+    ': nothing else of ours ran when they started (later values include the benchmark\'s own threads). '
+    'The speed of this virtual machine itself varies between runs minutes apart (seen on 2026-12-01, both '
+    'runs idle: CGAL\'s iteration at 26k vertices 25.4 ms in one run and 41.8 ms in the next, the '
+    'memory bandwidth 39.6 and 29.9 GB/s): compare ratios within one run, not times across runs.')) if loads else 'The load of the machine was not recorded.'
 
 bandwidth = max([b.get('bytes_per_second', 0) for b in bandwidths] or [0])
 p('## Performance targets (issue 6)\n')
