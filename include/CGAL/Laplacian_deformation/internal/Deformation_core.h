@@ -13,7 +13,6 @@
 
 #include <CGAL/tags.h>
 
-
 #include <chrono>
 
 #include <Eigen/Core>
