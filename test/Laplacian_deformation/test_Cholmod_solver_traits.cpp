@@ -86,7 +86,26 @@ TEST(CholmodSupernodalLlt, SolveColumnsMatchesCholmodSolve)
     EXPECT_LE((full * x - b).norm(), 1e-10 * b.norm()) << columns << " columns";
   }
   EXPECT_FALSE(llt.solve_columns(Eigen::MatrixX3d::Ones(n.rows() - 1, 3), x3));  // wrong size
-  EXPECT_FALSE(llt.solve_columns(Eigen::MatrixX3d::Constant(n.rows(), 3, std::numeric_limits<double>::infinity()), x3));
+  // a non-finite solution is returned, not refused: Least_squares_solver reports it as NOT_FINITE
+  EXPECT_TRUE(llt.solve_columns(Eigen::MatrixX3d::Constant(n.rows(), 3, std::numeric_limits<double>::infinity()), x3));
+  EXPECT_FALSE(x3.allFinite());
+}
+
+// a finite right-hand side whose solution overflows: Least_squares_solver reports NOT_FINITE (the
+// solution is checked after solve_columns(), which returns it as it is)
+TEST(CholmodSolverTraits, OverflowingSolutionIsNotFinite)
+{
+  Eigen::SparseMatrix<double> a(4, 3);
+  for(int i = 0; i < 3; ++i)
+    a.insert(i, i) = 1e-150;                // A^T A = 1e-300 I: factorable, x = 1e300 * A^T b
+  a.insert(3, 0) = 1e-150;
+  Cholmod_solver solver;
+  ASSERT_TRUE(solver.factor(a));
+  Eigen::MatrixX3d x;
+  EXPECT_FALSE(solver.solve(Eigen::MatrixX3d::Constant(4, 3, 1e200), x));
+  EXPECT_EQ(solver.info(), Cholmod_solver::NOT_FINITE);
+  ASSERT_TRUE(solver.solve(Eigen::MatrixX3d::Constant(4, 3, 1e-200), x));   // the same system, small data
+  EXPECT_TRUE(x.allFinite());
 }
 
 TEST(CholmodSolverTraits, MatchesDefaultSolver)

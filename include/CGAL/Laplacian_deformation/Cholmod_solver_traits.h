@@ -19,12 +19,14 @@ namespace Laplacian_deformation {
 
 /*!
 \ingroup PkgLaplacianDeformationSolver
-\brief `Eigen::CholmodSupernodalLLT` (lower triangle) with a faster solve for a few right-hand sides.
+\brief `Eigen::CholmodSupernodalLLT` (lower triangle) with a solve of its own for a few right-hand sides.
 
 CHOLMOD factors; `solve_columns()` then runs the forward and backward substitutions itself on
-CHOLMOD's supernodal factor, supernode by supernode, with \eigen's vectorised dense kernels and no
-BLAS call: for the three columns of a deformation, CHOLMOD's own solve spends most of its time in
-BLAS calls on blocks only three columns wide. Both compute the same solution up to round-off.
+CHOLMOD's supernodal factor, supernode by supernode, with \eigen's dense matrix-vector kernels and
+no BLAS call, so that OpenBLAS's threads stay idle while the transforms are fitted on \tbb's
+threads. In an ad-hoc timing on the armadillo it was as fast as CHOLMOD's own solve with the
+default x86-64 code and 1.4 to 1.9 times faster with `-march=native`. Both compute the same
+solution up to round-off.
 Everything else (`compute()`, `solve()`, `info()`, `cholmod()`) is `Eigen::CholmodSupernodalLLT`'s.
 */
 class Cholmod_supernodal_llt
@@ -33,7 +35,8 @@ class Cholmod_supernodal_llt
 public:
   /// solves `A X = B` with the current factorisation, for any number of columns (`Matrix`: a
   /// resizable dense \eigen matrix such as `Eigen::MatrixX3d`). Returns `false` when there is no
-  /// successful factorisation, `B` has the wrong number of rows or the solution is not finite.
+  /// successful factorisation or `B` has the wrong number of rows; a solution that is not finite
+  /// is returned as it is (the caller checks it, as `Least_squares_solver` does).
   template <class Matrix>
   bool solve_columns(const Eigen::Ref<const Eigen::MatrixXd>& b, Matrix& x) const
   {
@@ -99,7 +102,7 @@ public:
     x.resize(n, k);
     for(int i = 0; i < n; ++i)
       x.row(perm ? perm[i] : i) = y.row(i);
-    return x.allFinite();
+    return true;
   }
 
   /// the CHOLMOD factor (`nullptr` before the first `compute()` or `analyzePattern()`).
