@@ -21,6 +21,7 @@
 #include <CGAL/Laplacian_deformation/Rotation_scale_rotation_transform.h>
 #include <CGAL/Laplacian_deformation/Least_squares_solver.h>
 #include <CGAL/Laplacian_deformation/laplacian_matrix.h>
+#include <CGAL/Laplacian_deformation/Deformation_start.h>
 #include <CGAL/Laplacian_deformation/Mesh_deformer.h>
 #include <CGAL/Laplacian_deformation/deform_mesh.h>
 #include <CGAL/Laplacian_deformation/metrics.h>

@@ -600,3 +600,256 @@ TEST(DeformMesh, NamedParametersMatchTheClass)
   ASSERT_TRUE(soft) << soft.message;
   EXPECT_GT(soft.max_constraint_residual, 0.);
 }
+
+// ---- The start (DESIGN section 7): identity or the handle's rotation propagated ----------------
+
+namespace {
+
+// the controls within `radius` of `c`
+std::vector<vertex_descriptor> controls_near(const Surface_mesh& m, const Eigen::Vector3d& c, double radius)
+{
+  std::vector<vertex_descriptor> out;
+  for(vertex_descriptor v : vertices(m))
+    if((positions(m)[std::size_t(v)] - c).norm() < radius)
+      out.push_back(v);
+  return out;
+}
+
+// open tube along z (32 around, 20 rows, radius 0.5, height 4)
+Surface_mesh tube() { return to_mesh<Surface_mesh>(cylinder_soup(32, 20, 0.5, 4.)); }
+
+// rows of the tube: ring j holds vertex indices [32 j, 32 j + 32)
+std::vector<vertex_descriptor> ring(const Surface_mesh& m, int j)
+{
+  std::vector<vertex_descriptor> out;
+  for(vertex_descriptor v : vertices(m))
+    if(int(std::size_t(v) / 32) == j)
+      out.push_back(v);
+  return out;
+}
+
+// the rotation angle about +z of a rotation (signed, in (-pi, pi])
+double angle_about_z(const Eigen::Matrix3d& r) { return std::atan2(r(1, 0) - r(0, 1), r(0, 0) + r(1, 1)); }
+
+} // namespace
+
+TYPED_TEST(EveryCombination, PureTranslationGivesBitwiseTheIdentityStart)
+{
+  for(int by_rotate_api = 0; by_rotate_api < 2; ++by_rotate_api)
+  {
+    Surface_mesh a = bumpy_plane(), b = bumpy_plane();
+    const Task task = patch_task(a);
+    const auto rest = positions(a);
+    std::vector<Eigen::Vector3d> results[2];
+    Surface_mesh* meshes[2] = { &a, &b };
+    for(int k = 0; k < 2; ++k)
+    {
+      typename TypeParam::Deformer d(*meshes[k]);
+      d.set_start(k == 0 ? LD::IDENTITY_START : LD::ROTATION_START);
+      d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+      d.insert_control_vertices(task.controls.begin(), task.controls.end());
+      if(by_rotate_api)
+        d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0.1, -0.05, 0.3));
+      else   // targets set one by one: the start fits each group's rotation (none) to them
+        for(vertex_descriptor v : task.controls)
+          d.set_target_position(v, to_point(rest[std::size_t(v)] + Eigen::Vector3d(0.1, -0.05, 0.3)));
+      ASSERT_TRUE(d.deform(3, 0.));
+      results[k] = positions(*meshes[k]);
+    }
+    EXPECT_EQ(results[0], results[1]);
+  }
+}
+
+TYPED_TEST(RotationBased, PropagatedStartGivesTheRigidMotionInOneSolve)
+{
+  // ROI = the whole closed mesh (no fixed vertex), two control patches moved by one rigid motion
+  const Eigen::Matrix3d g = some_rotation();
+  const Eigen::Vector3d t(1, 2, 3);
+  Surface_mesh m = bumpy_sphere();
+  const auto rest = positions(m);
+  std::vector<vertex_descriptor> controls = controls_near(m, Eigen::Vector3d(0, 0, 1), 0.45);
+  for(vertex_descriptor v : controls_near(m, Eigen::Vector3d(0, 0, -1), 0.45))
+    controls.push_back(v);
+  typename TypeParam::Deformer d(m);
+  d.insert_roi_vertices(vertices(m).begin(), vertices(m).end());
+  d.insert_control_vertices(controls.begin(), controls.end());
+  for(vertex_descriptor v : controls)
+    d.set_target_position(v, to_point(g * rest[std::size_t(v)] + t));
+  ASSERT_TRUE(d.preprocess());
+  EXPECT_EQ(d.number_of_control_groups(), 2u);
+  const auto r = d.deform(1, 0.);
+  ASSERT_TRUE(r) << r.message;
+  std::vector<Eigen::Vector3d> expected;
+  for(const auto& p : rest)
+    expected.push_back(g * p + t);
+  EXPECT_LE(max_distance(positions(m), expected, diagonal(m)), 1e-10);
+
+  // the identity start does not reach it in one solve
+  Surface_mesh n = bumpy_sphere();
+  typename TypeParam::Deformer e(n);
+  e.set_start(LD::IDENTITY_START);
+  e.insert_roi_vertices(vertices(n).begin(), vertices(n).end());
+  e.insert_control_vertices(controls.begin(), controls.end());
+  for(vertex_descriptor v : controls)
+    e.set_target_position(v, to_point(g * rest[std::size_t(v)] + t));
+  ASSERT_TRUE(e.deform(1, 0.));
+  EXPECT_GT(max_distance(positions(n), expected, diagonal(n)), 1e-3);
+}
+
+TEST(MeshDeformerStart, HarmonicFieldIsBoundedAndFactoredOncePerPreprocess)
+{
+  Surface_mesh m = bumpy_plane();
+  const Task task = patch_task(m);
+  LD::Mesh_deformer<Surface_mesh> d(m);
+  EXPECT_EQ(d.start(), LD::ROTATION_START);                      // the default
+  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  d.insert_control_vertices(task.controls.begin(), task.controls.end());
+  ASSERT_TRUE(d.preprocess());
+  EXPECT_EQ(d.number_of_start_field_factorizations(), 1u);
+  ASSERT_EQ(d.number_of_control_groups(), 1u);
+  EXPECT_EQ(d.control_group(0).size(), task.controls.size());
+  const std::vector<double> phi = d.start_field(0);
+  ASSERT_EQ(phi.size(), num_vertices(m));
+  std::size_t inside = 0;
+  for(vertex_descriptor v : vertices(m))
+  {
+    const double f = phi[std::size_t(v)];
+    if(d.is_control_vertex(v))
+      EXPECT_EQ(f, 1.);
+    else if(!d.is_roi_vertex(v))
+      EXPECT_EQ(f, 0.);                                         // the fixed border
+    else
+    {
+      EXPECT_GE(f, 0.);
+      EXPECT_LE(f, 1.);
+      inside += f > 1e-6 && f < 1 - 1e-6;
+    }
+  }
+  EXPECT_GT(inside, task.roi.size() / 2);
+  EXPECT_TRUE(d.start_field(1).empty());
+
+  // moving targets, rotating them and resetting never refactor the field (nor the system)
+  for(int k = 0; k < 3; ++k)
+  {
+    d.rotate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0.5, 0.5, 0),
+             Eigen::Quaternion<double>(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX())));
+    ASSERT_TRUE(d.deform(2, 0.));
+    d.reset();
+  }
+  EXPECT_EQ(d.number_of_start_field_factorizations(), 1u);
+  EXPECT_EQ(d.number_of_factorizations(), 1u);
+  // a new control set refactors both
+  d.erase_control_vertex(task.controls.front());
+  ASSERT_TRUE(d.preprocess());
+  EXPECT_EQ(d.number_of_start_field_factorizations(), 2u);
+  // the identity start does not compute a field at all
+  d.set_start(LD::IDENTITY_START);
+  d.insert_control_vertex(task.controls.front());
+  ASSERT_TRUE(d.preprocess());
+  EXPECT_EQ(d.number_of_start_field_factorizations(), 2u);
+  EXPECT_EQ(d.number_of_control_groups(), 0u);
+}
+
+TEST(MeshDeformerStart, TwoGroupsWithOppositeRotationsEachGetTheirOwn)
+{
+  typedef Config<LD::Vertex_based_representation, LD::Cotangent_weights, LD::Rotation_transform>::Deformer Deformer;
+  Surface_mesh m = tube();
+  const std::vector<vertex_descriptor> bottom = ring(m, 0), top = ring(m, 20);
+  Deformer d(m);
+  d.insert_roi_vertices(vertices(m).begin(), vertices(m).end());   // no fixed vertex
+  d.insert_control_vertices(bottom.begin(), bottom.end());
+  d.insert_control_vertices(top.begin(), top.end());
+  const double angle = 0.8;
+  d.rotate(bottom.begin(), bottom.end(), Eigen::Vector3d(0, 0, 0),
+           Eigen::Quaternion<double>(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ())));
+  d.rotate(top.begin(), top.end(), Eigen::Vector3d(0, 0, 4),
+           Eigen::Quaternion<double>(Eigen::AngleAxisd(-angle, Eigen::Vector3d::UnitZ())));
+  ASSERT_TRUE(d.deform(1, 0.));
+  ASSERT_EQ(d.number_of_control_groups(), 2u);
+  // the first solve's transforms: +angle near the bottom, -angle near the top, none in the middle
+  const double near_bottom = angle_about_z(d.node_transform(std::size_t(ring(m, 2).front())));
+  const double near_top = angle_about_z(d.node_transform(std::size_t(ring(m, 18).front())));
+  const double middle = angle_about_z(d.node_transform(std::size_t(ring(m, 10).front())));
+  EXPECT_GT(near_bottom, 0.5 * angle);
+  EXPECT_LT(near_top, -0.5 * angle);
+  EXPECT_NEAR(middle, 0., 1e-6);
+}
+
+TEST(MeshDeformerStart, RotateKeepsTheWindingOfLargeTurns)
+{
+  typedef Config<LD::Vertex_based_representation, LD::Cotangent_weights, LD::Rotation_transform>::Deformer Deformer;
+  const double pi = 3.14159265358979323846;
+  for(int by_rotate_api = 0; by_rotate_api < 2; ++by_rotate_api)
+  {
+    Surface_mesh m = tube();
+    const std::vector<vertex_descriptor> bottom = ring(m, 0), top = ring(m, 20);
+    std::vector<vertex_descriptor> roi;
+    for(vertex_descriptor v : vertices(m))
+      if(std::size_t(v) >= 32)
+        roi.push_back(v);
+    Deformer d(m);
+    d.insert_roi_vertices(roi.begin(), roi.end());
+    d.insert_control_vertices(top.begin(), top.end());
+    const Eigen::Quaternion<double> q(Eigen::AngleAxisd(1.5 * pi, Eigen::Vector3d::UnitZ()));   // 270 degrees
+    if(by_rotate_api)
+      d.rotate(top.begin(), top.end(), Eigen::Vector3d(0, 0, 4), q);
+    else
+      for(vertex_descriptor v : top)
+      {
+        const Eigen::Vector3d p = q * positions(m)[std::size_t(v)];
+        d.set_target_position(v, to_point(p));
+      }
+    ASSERT_TRUE(d.deform(1, 0.));
+    // the middle ring (phi about 1/2) turns by about +135 degrees with the winding kept, by
+    // about -45 degrees when only the targets are known (the closest rotation of -90)
+    const double middle = angle_about_z(d.node_transform(std::size_t(ring(m, 10).front())));
+    if(by_rotate_api)
+      EXPECT_NEAR(middle, 0.75 * pi, 0.1 * pi);
+    else
+      EXPECT_NEAR(middle, -0.25 * pi, 0.05 * pi);
+  }
+}
+
+TEST(MeshDeformerStart, BentTubeFollowsTheArcFromThePropagatedStart)
+{
+  // the harness's cylinder task at test size: the top ring turned by 90 degrees about y and moved
+  // to the end of a quarter arc; ring centroids against the ideal arc, after 10 iterations
+  typedef Config<LD::Edge_based_representation, LD::Cotangent_weights, LD::Rotation_transform>::Deformer Deformer;
+  const double pi = 3.14159265358979323846, bend_radius = 4. / (pi / 2);
+  double error[2];
+  for(int k = 0; k < 2; ++k)
+  {
+    Surface_mesh m = to_mesh<Surface_mesh>(cylinder_soup(32, 40, 0.5, 4.));
+    const std::vector<vertex_descriptor> top = ring(m, 40);
+    std::vector<vertex_descriptor> roi;
+    for(vertex_descriptor v : vertices(m))
+      if(std::size_t(v) >= 32)
+        roi.push_back(v);
+    Deformer d(m);
+    d.set_start(k == 0 ? LD::IDENTITY_START : LD::ROTATION_START);
+    d.insert_roi_vertices(roi.begin(), roi.end());
+    d.insert_control_vertices(top.begin(), top.end());
+    const Eigen::Matrix3d r = Eigen::AngleAxisd(pi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    for(vertex_descriptor v : top)
+    {
+      const Eigen::Vector3d p = positions(m)[std::size_t(v)] - Eigen::Vector3d(0, 0, 4);
+      d.set_target_position(v, to_point(r * p + Eigen::Vector3d(bend_radius, 0, bend_radius)));
+    }
+    ASSERT_TRUE(d.deform(10, 0.));
+    error[k] = 0;
+    for(int j = 0; j <= 40; ++j)
+    {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for(vertex_descriptor v : ring(m, j))
+        c += positions(m)[std::size_t(v)] / 32.;
+      // distance of the centroid from the arc of radius bend_radius about (bend_radius, 0, 0) in y = 0
+      const Eigen::Vector3d q = c - Eigen::Vector3d(bend_radius, 0, 0);
+      error[k] = (std::max)(error[k], std::abs(std::hypot(q.x(), q.z()) - bend_radius) + std::abs(q.y()));
+    }
+  }
+  std::cout << "[measured] bent tube, edge rotation, 10 iterations: ring centroids off the arc by "
+            << error[0] / 0.5 << " (identity start) and " << error[1] / 0.5 << " (rotation start) tube radii"
+            << std::endl;
+  EXPECT_LE(error[1] / 0.5, 0.3);
+  EXPECT_GT(error[0], 2 * error[1]);
+}

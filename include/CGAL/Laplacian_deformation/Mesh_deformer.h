@@ -6,9 +6,12 @@
 #define CGAL_LAPLACIAN_DEFORMATION_MESH_DEFORMER_H
 
 #include <CGAL/Laplacian_deformation/Deformation_result.h>
+#include <CGAL/Laplacian_deformation/Deformation_start.h>
+#include <CGAL/Laplacian_deformation/Fixed_transform.h>
 #include <CGAL/Laplacian_deformation/laplacian_matrix.h>
 #include <CGAL/Laplacian_deformation/internal/Deformation_core.h>
 #include <CGAL/Laplacian_deformation/internal/Deformation_types.h>
+#include <CGAL/Laplacian_deformation/internal/Rotation_start.h>
 
 #include <CGAL/Iterator_range.h>
 #include <CGAL/Polygon_mesh_processing/manifoldness.h>
@@ -16,6 +19,7 @@
 #include <CGAL/tags.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <boost/iterator/function_output_iterator.hpp>
 
 #include <algorithm>
@@ -23,6 +27,7 @@
 #include <cmath>
 #include <optional>
 #include <chrono>
+#include <type_traits>
 #include <vector>
 
 namespace CGAL {
@@ -44,9 +49,11 @@ rows are every node whose Laplacian stencil touches a free vertex. The normal ma
 depend on the transforms: it is factored once per ROI / control set / constraint mode, and
 moving targets never refactors it.
 
-The first iteration after `preprocess()` or `reset()` is one solve with `T = I`; later iterations
-(also in later `deform()` calls) continue from the previous solution, so `deform(7, 0)` equals
-seven `deform(1, 0)` calls. Iterations stop after `iterations` or when the largest vertex
+The first iteration after `preprocess()` or `reset()` is one solve with the start transforms
+(`start()`: by default `ROTATION_START`, each control group's rotation propagated by a harmonic
+field, see \ref LapDefStart; `IDENTITY_START`: `T = I`); later iterations (also in later
+`deform()` calls) continue from the previous solution, so `deform(7, 0)` equals seven
+`deform(1, 0)` calls. Iterations stop after `iterations` or when the largest vertex
 displacement of an iteration, relative to the ROI's bounding-box diagonal, is at most `tolerance`.
 
 A failed `preprocess()` or `deform()` leaves the mesh exactly as it was; its reason is in
@@ -97,7 +104,9 @@ public:
     : m_tm(tm), m_vpm(vpm), m_vim(CGAL::get_initialized_vertex_index_map(tm)),
       m_number_of_vertices(num_vertices(tm)), m_number_of_edges(num_edges(tm)),
       m_is_roi(m_number_of_vertices, 0), m_is_control(m_number_of_vertices, 0),
-      m_moved(m_number_of_vertices, 0), m_target(m_number_of_vertices)
+      m_moved(m_number_of_vertices, 0), m_target(m_number_of_vertices),
+      m_target_rotation(m_number_of_vertices, Eigen::Quaterniond::Identity()),
+      m_rotation_known(m_number_of_vertices, 0)
   {
     m_rest = internal::vertex_positions(m_tm, m_vpm, m_vim);
   }
@@ -159,6 +168,9 @@ public:
     insert_roi_vertex(v);
     m_is_control[index(v)] = 1;
     m_target[index(v)] = get(m_vpm, v);
+    // the rotation given by rotate() is tracked from the rest position only
+    m_target_rotation[index(v)] = Eigen::Quaterniond::Identity();
+    m_rotation_known[index(v)] = to_vector(m_target[index(v)]) == m_rest[index(v)];
     return m_need_preprocess = true;
   }
   /// makes every vertex of `[begin, end)` a control vertex.
@@ -196,10 +208,13 @@ public:
   /// @{
 
   /// sets the target of the control vertex `v` (ignored if `v` is not a control vertex).
+  /// The rotation-aware start then takes the rotation of `v`'s group from the targets (see \ref LapDefStart).
   void set_target_position(vertex_descriptor v, const Point& target)
   {
-    if(is_control_vertex(v))
-      m_target[index(v)] = target;
+    if(!is_control_vertex(v))
+      return;
+    m_target[index(v)] = target;
+    m_rotation_known[index(v)] = 0;
   }
   /// the target of the control vertex `v`.
   const Point& target_position(vertex_descriptor v) const
@@ -214,8 +229,8 @@ public:
   {
     if(!is_control_vertex(v))
       return;
-    const Point& p = m_target[index(v)];
-    set_target_position(v, Point(p.x() + t[0], p.y() + t[1], p.z() + t[2]));
+    Point& p = m_target[index(v)];
+    p = Point(p.x() + t[0], p.y() + t[1], p.z() + t[2]);   // keeps the rotation given by rotate()
   }
   /// translates the targets of `[begin, end)` by `t`.
   template <class InputIterator, class Vect>
@@ -226,16 +241,20 @@ public:
   }
   /// rotates the target of `v` by the quaternion `quat` about `center`, as CGAL does
   /// (`Vect` is constructible from three coordinates, has `operator[]`, and `quat * Vect` is a `Vect`);
-  /// ignored if `v` is not a control vertex.
+  /// ignored if `v` is not a control vertex. The rotation-aware start uses the composed rotations
+  /// given here (with their winding, up to 360 degrees, when `Quaternion` is an `Eigen::Quaternion`)
+  /// as long as the target is set only by `rotate()` and `translate()` since the control was
+  /// inserted at its rest position or since `reset()`.
   template <class Quaternion, class Vect>
   void rotate(vertex_descriptor v, const Vect& center, const Quaternion& quat)
   {
     if(!is_control_vertex(v))
       return;
-    const Point& p = m_target[index(v)];
+    Point& p = m_target[index(v)];
     const Vect r = quat * Vect(CGAL::to_double(p.x()) - center[0], CGAL::to_double(p.y()) - center[1],
                                CGAL::to_double(p.z()) - center[2]);
-    set_target_position(v, Point(center[0] + r[0], center[1] + r[1], center[2] + r[2]));
+    p = Point(center[0] + r[0], center[1] + r[1], center[2] + r[2]);
+    m_target_rotation[index(v)] = (as_quaternion<Vect>(quat) * m_target_rotation[index(v)]).normalized();
   }
   /// rotates the targets of `[begin, end)`.
   template <class InputIterator, class Quaternion, class Vect>
@@ -265,6 +284,12 @@ public:
   unsigned int iterations() const { return m_iterations; }
   /// the tolerance of `deform()`.
   double tolerance() const { return m_tolerance; }
+  /// the transforms of the first solve after `preprocess()`, `reset()` or a restart (default
+  /// `ROTATION_START`, see \ref LapDefStart). Changing it never refactors the deformation system;
+  /// it takes effect at the next start.
+  void set_start(Deformation_start start) { m_start = start; }
+  /// the start of the iterations.
+  Deformation_start start() const { return m_start; }
   /// @}
 
   /// \name Deformation
@@ -305,6 +330,10 @@ public:
     m_need_preprocess = false;
     m_role.swap(role);
     m_diagonal = region_diagonal();
+    m_field_ready = false;
+    if(uses_start() && m_start == ROTATION_START && !build_start_field())
+      return false;
+    m_last.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return true;
   }
   /// \endcond
@@ -335,6 +364,8 @@ public:
       if(!p[i].allFinite() && m_role[i] != internal::FIXED_VERTEX)
         return fail(NON_FINITE_INPUT, "a target or a current position is not finite"), m_last;
     }
+    if(!m_core.has_solution() && !apply_start(p))
+      return m_last;
     m_last = m_core.iterate(p, iterations, tolerance, m_diagonal);
     if(m_last)
     {
@@ -346,14 +377,18 @@ public:
     return m_last;
   }
   /// puts the ROI back at its rest positions, the targets of the controls too, and restarts the
-  /// iterations from `T = I`.
+  /// iterations from the start transforms (`start()`).
   void reset()
   {
     for(vertex_descriptor v : m_roi)
     {
       put_position(v, m_rest[index(v)], false);
       if(is_control_vertex(v))
+      {
         m_target[index(v)] = get(m_vpm, v);
+        m_target_rotation[index(v)] = Eigen::Quaterniond::Identity();
+        m_rotation_known[index(v)] = 1;
+      }
     }
     m_core.restart();
   }
@@ -400,14 +435,112 @@ public:
     return it != rows.end() && *it == a ? m_core.transforms()[std::size_t(it - rows.begin())]
                                         : Eigen::Matrix3d::Identity().eval();
   }
-  /// the number of factorisations performed so far.
+  /// the number of factorisations of the deformation system performed so far.
   std::size_t number_of_factorizations() const { return m_core.number_of_factorizations(); }
+  /// the number of control groups (connected components of the control vertices) of the
+  /// rotation-aware start (available after a successful `preprocess()` with `ROTATION_START`; 0 otherwise).
+  std::size_t number_of_control_groups() const { return m_field_ready ? m_field.number_of_groups() : 0; }
+  /// the control vertices of group `g`, `g < number_of_control_groups()`.
+  std::vector<vertex_descriptor> control_group(std::size_t g) const
+  {
+    CGAL_precondition(g < number_of_control_groups());
+    std::vector<vertex_descriptor> group;
+    for(vertex_descriptor v : m_roi)
+      if(m_field.group_of(index(v)) == long(g))
+        group.push_back(v);
+    return group;
+  }
+  /// the harmonic field `phi_g` of the rotation-aware start on every vertex, by vertex index (1 on
+  /// group `g`, 0 on the other groups and outside the ROI); empty if it is not available
+  /// (`g >= number_of_control_groups()`). One back-substitution with the field's factor.
+  std::vector<double> start_field(std::size_t g) const
+  {
+    std::vector<double> phi;
+    if(g >= number_of_control_groups() || !m_field.field(g, phi))
+      phi.clear();
+    return phi;
+  }
+  /// the number of factorisations of the rotation-aware start's harmonic field performed so far
+  /// (one per `preprocess()` with `ROTATION_START`; moving targets never refactors it).
+  std::size_t number_of_start_field_factorizations() const { return m_field.number_of_factorizations(); }
   /// @}
 
 private:
   typedef typename CGAL::GetInitializedVertexIndexMap<TriangleMesh>::const_type Vertex_index_map;
 
   std::size_t index(vertex_descriptor v) const { return static_cast<std::size_t>(get(m_vim, v)); }
+
+  // the start applies to the policies that fit a transform (Fixed_transform keeps T = I)
+  static constexpr bool uses_start() { return !std::is_same<Transform_policy, Fixed_transform>::value; }
+
+  // a quaternion as an Eigen one: exactly (with its winding) for Eigen's, else from its action
+  template <class Vect, class Quaternion>
+  static Eigen::Quaterniond as_quaternion(const Quaternion& q)
+  {
+    if constexpr(std::is_base_of<Eigen::QuaternionBase<Quaternion>, Quaternion>::value)
+      return q.template cast<double>().normalized();
+    else
+    {
+      Eigen::Matrix3d r;
+      for(int k = 0; k < 3; ++k)
+      {
+        const Vect e = q * Vect(k == 0 ? 1. : 0., k == 1 ? 1. : 0., k == 2 ? 1. : 0.);
+        r.col(k) = Eigen::Vector3d(CGAL::to_double(e[0]), CGAL::to_double(e[1]), CGAL::to_double(e[2]));
+      }
+      Eigen::Quaterniond e(r);
+      return e.w() < 0 ? Eigen::Quaterniond(-e.coeffs()) : e;
+    }
+  }
+
+  bool build_start_field()
+  {
+    if(m_field.build(m_tm, m_vim, m_roi, m_is_control, m_rest))
+      return m_field_ready = true;
+    return fail(FACTORIZATION_FAILED, "the harmonic field of the rotation-aware start could not be factored");
+  }
+
+  // before the first solve after preprocess(), reset() or a restart: the start transforms. `p`
+  // holds the targets of the controls.
+  bool apply_start(const std::vector<Eigen::Vector3d>& p)
+  {
+    if(!uses_start() || m_start != ROTATION_START)
+      return true;
+    if(!m_field_ready && !build_start_field())
+      return false;
+    const std::size_t groups = m_field.number_of_groups();
+    std::vector<Eigen::Vector3d> omega(groups, Eigen::Vector3d::Zero());
+    bool rotated = false;
+    for(std::size_t g = 0; g < groups; ++g)
+    {
+      const std::vector<std::size_t>& group = m_field.groups()[g];
+      bool exact = true;
+      for(std::size_t i : group)
+        exact = exact && m_rotation_known[i] &&
+                m_target_rotation[i].coeffs() == m_target_rotation[group.front()].coeffs();
+      if(exact)
+      {
+        omega[g] = internal::quaternion_log(m_target_rotation[group.front()]);
+        if(!(omega[g].norm() > internal::start_rotation_snap))
+          omega[g].setZero();
+      }
+      else if(!internal::group_rotation_log(group, m_rest, p, omega[g]))
+        return fail(NON_FINITE_INPUT, "a target is not finite");
+      rotated = rotated || omega[g] != Eigen::Vector3d::Zero();
+    }
+    if(!rotated)
+      return true;                       // a pure translation: exactly the identity start
+    std::vector<Eigen::Vector3d> values;
+    if(!m_field.propagate(omega, values))
+      return fail(SOLVE_FAILED, "the harmonic field of the rotation-aware start could not be solved");
+    const internal::Laplacian_stencils& s = m_stencils;
+    m_core.set_start_transforms([&](std::size_t a) {
+      Eigen::Vector3d w = Eigen::Vector3d::Zero();
+      for(std::size_t k = s.combination_start[a]; k < s.combination_start[a + 1]; ++k)
+        w += s.combination_coefficient[k] * values[s.combination_vertex[k]];
+      return internal::rotation_exp(w);
+    });
+    return true;
+  }
   bool is_vertex(vertex_descriptor v) const
   {
     return v != boost::graph_traits<TriangleMesh>::null_vertex() && index(v) < m_number_of_vertices;
@@ -501,6 +634,11 @@ private:
   Eigen::MatrixX3d m_delta;
   std::vector<Eigen::Vector3d> m_rest_nodes;
   internal::Deformation_core<Transform_policy, Solver_traits, ConcurrencyTag> m_core;
+  internal::Rotation_start_field m_field;
+  std::vector<Eigen::Quaterniond> m_target_rotation;   // per control: the rotation given by rotate()
+  std::vector<unsigned char> m_rotation_known;         // whether it is known (see rotate())
+  Deformation_start m_start = ROTATION_START;
+  bool m_field_ready = false;
   Deformation_result m_last;
   double m_diagonal = 0;
   double m_soft_weight = 1.;

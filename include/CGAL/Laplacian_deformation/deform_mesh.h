@@ -83,6 +83,10 @@ as `controls`.
     \cgalParamDescription{if given, the controls are soft with this relative weight (package parameter); otherwise hard}
     \cgalParamDefault{hard constraints}
   \cgalParamNEnd
+  \cgalParamNBegin{start}
+    \cgalParamDescription{the transforms of the first solve, a `Deformation_start` (package parameter; see \ref LapDefStart)}
+    \cgalParamDefault{`ROTATION_START`}
+  \cgalParamNEnd
   \cgalParamNBegin{concurrency_tag}
     \cgalParamDescription{`CGAL::Sequential_tag` or `CGAL::Parallel_tag` for the local step (package parameter)}
     \cgalParamDefault{`CGAL::Parallel_if_available_tag`}
@@ -125,6 +129,7 @@ Deformation_result deform_mesh(TriangleMesh& tm, const VertexRange& roi, const C
   auto target = std::begin(targets);
   for(auto v : controls)
     deformer.set_target_position(v, *target++);
+  deformer.set_start(choose_parameter(get_parameter(np, internal_np::start), ROTATION_START));
   if(!is_default_parameter<NamedParameters, internal_np::soft_constraint_weight_t>::value)
     deformer.set_soft_constraints(choose_parameter(get_parameter(np, internal_np::soft_constraint_weight), 1.));
   return deformer.deform(choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 4u),

@@ -18,6 +18,7 @@ enum transform_policy_t { transform_policy };
 enum tolerance_t { tolerance };
 enum soft_constraint_weight_t { soft_constraint_weight };
 enum concurrency_tag_t { concurrency_tag };
+enum start_t { start };
 } // namespace internal_np
 /// \endcond
 
@@ -45,6 +46,7 @@ CGAL_LAPLACIAN_DEFORMATION_PARAMETER(transform_policy)
 CGAL_LAPLACIAN_DEFORMATION_PARAMETER(tolerance)
 CGAL_LAPLACIAN_DEFORMATION_PARAMETER(soft_constraint_weight)
 CGAL_LAPLACIAN_DEFORMATION_PARAMETER(concurrency_tag)
+CGAL_LAPLACIAN_DEFORMATION_PARAMETER(start)
 #undef CGAL_LAPLACIAN_DEFORMATION_PARAMETER
 /// \endcond
 

@@ -286,7 +286,7 @@ public:
     return result;
   }
 
-  // forget the previous solution: the next iteration starts with T = I
+  // forget the previous solution: the next iteration starts with T = I (or set_start_transforms())
   void restart()
   {
     m_has_solution = false;
@@ -300,6 +300,17 @@ public:
     for(std::size_t j = 0; j < m_unknowns.size(); ++j)
       m_solution.row(Eigen::Index(j)) = positions[m_unknowns[j]].transpose();
     m_has_solution = true;
+  }
+
+  // whether the next iteration continues from a solution (otherwise it starts with the transforms
+  // set by restart() or set_start_transforms())
+  bool has_solution() const { return m_has_solution; }
+  // the transforms of the first solve: `f(a)` for the row node `a` (before the first iteration only)
+  template <class F>
+  void set_start_transforms(const F& f)
+  {
+    for(std::size_t r = 0; r < m_rows.size(); ++r)
+      m_transforms[r] = f(m_rows[r]);
   }
 
   bool is_ready() const { return m_ready; }
