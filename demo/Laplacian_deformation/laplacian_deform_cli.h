@@ -80,6 +80,7 @@ struct Options
   // method
   std::string representation = "edge", weights = "cotangent", transform = "sr1", solver = default_solver();
   unsigned int iterations = 4;
+  std::string start = "rotation";   // identity | rotation (Mesh_deformer::set_start)
   double tolerance = 0;
   bool soft = false;
   double soft_weight = 1;
@@ -139,6 +140,9 @@ inline const char* usage_text()
 "                        per-node transform: the paper's S*R1 (default), identity, rotation,\n"
 "                        rotation and isotropic scale, principal-axes S*R1, R2*S*R1\n"
 "  --iterations N        iterations (default 4, the paper's 3 to 4)\n"
+"  --start rotation|identity\n"
+"                        first solve: the handles' rotation propagated by a harmonic field\n"
+"                        (default), or T = I (plain Laplacian editing, then the iterations)\n"
 "  --tolerance X         stop when an iteration moves no vertex by more than X times the ROI's\n"
 "                        bounding-box diagonal (default 0: run every iteration)\n"
 "  --soft W              soft handle constraints of relative weight W (default: hard)\n"
@@ -279,7 +283,7 @@ inline bool parse_command_line(const std::vector<std::string>& args, Options& o,
 
     static const char* const flags[] = {"--help", "--force", "--triangulate", "--compare", "--quiet"};
     static const char* const valued[] = {"--output", "--output-dir", "--report", "--representation", "--weights",
-                                         "--transform", "--solver", "--iterations", "--tolerance", "--soft",
+                                         "--transform", "--start", "--solver", "--iterations", "--tolerance", "--soft",
                                          "--threads", "--handle", "--roi-rings", "--roi-radius", "--translate",
                                          "--rotate", "--progress"};
     const bool is_flag = std::find_if(std::begin(flags), std::end(flags),
@@ -353,6 +357,14 @@ inline bool parse_command_line(const std::vector<std::string>& args, Options& o,
         return bad("sr1, fixed, rotation, similarity, principal or rsr");
       }
       o.transform = value;
+    }
+    else if(arg == "--start")
+    {
+      if(!detail::one_of(value, {"rotation", "identity"}))
+      {
+        return bad("rotation or identity");
+      }
+      o.start = value;
     }
     else if(arg == "--solver")
     {
@@ -497,6 +509,10 @@ struct Task
   std::size_t triangulated_faces = 0;        // faces that --triangulate split
   std::vector<int> status;                   // LD::IO::Botsch08_status per vertex index
   Eigen::Matrix4d transform = Eigen::Matrix4d::Identity();
+  // --rotate: the handles' rotation as given (so that the rotation-aware start keeps its winding)
+  bool has_rotation = false;
+  Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d rotation_center = Eigen::Vector3d::Zero(), translation = Eigen::Vector3d::Zero();
   std::string selection_description, motion_description;
 
   std::size_t count(int s) const { return std::size_t(std::count(status.begin(), status.end(), s)); }
@@ -698,6 +714,15 @@ inline bool load_task(const Options& o, const fs::path& data_dir, Task& task, st
       }
     centroid /= double(task.count(LD::IO::BOTSCH08_HANDLE));
     task.transform = motion_matrix(o, centroid);
+    if(o.has_rotate)
+    {
+      task.has_rotation = true;
+      task.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(o.angle_degrees * 3.14159265358979323846 / 180.,
+                                         Eigen::Vector3d(o.axis[0], o.axis[1], o.axis[2]).normalized()));
+      task.rotation_center = o.has_center ? Eigen::Vector3d(o.center[0], o.center[1], o.center[2]) : centroid;
+      if(o.has_translate)
+        task.translation = Eigen::Vector3d(o.translate[0], o.translate[1], o.translate[2]);
+    }
     std::ostringstream d;
     d.precision(6);
     if(o.has_rotate)

@@ -55,6 +55,7 @@ void deform_run(const Task& task, const Options& o, Run_record& run, Progress& p
   }
   if(o.soft)
     deformer.set_soft_constraints(o.soft_weight);
+  deformer.set_start(o.start == "identity" ? LD::IDENTITY_START : LD::ROTATION_START);
 
   progress.stage(run.name() + ": preprocessing (building and factoring the system)");
   const Clock::time_point t0 = Clock::now();
@@ -67,12 +68,18 @@ void deform_run(const Task& task, const Options& o, Run_record& run, Progress& p
     return;
   }
   run.row_nodes = deformer.row_nodes().size();
-  for(vertex_descriptor v : handles)
+  if(task.has_rotation)        // --rotate: through rotate(), so that the start knows the turn exactly
   {
-    const Point_3& p = run.mesh.point(v);
-    const Eigen::Vector4d q = task.transform * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.);
-    deformer.set_target_position(v, Point_3(q.x(), q.y(), q.z()));
+    deformer.rotate(handles.begin(), handles.end(), task.rotation_center, task.rotation);
+    deformer.translate(handles.begin(), handles.end(), task.translation);
   }
+  else
+    for(vertex_descriptor v : handles)
+    {
+      const Point_3& p = run.mesh.point(v);
+      const Eigen::Vector4d q = task.transform * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.);
+      deformer.set_target_position(v, Point_3(q.x(), q.y(), q.z()));
+    }
   const Clock::time_point t1 = Clock::now();
   for(unsigned int k = 0; k < o.iterations; ++k)
   {

@@ -53,7 +53,7 @@ TEST(LaplacianDeformCli, ParsesEveryOption)
   std::string error;
   ASSERT_TRUE(parse({"m.off", "--handle", "3,5-7", "--handle=9", "--roi-rings", "4", "--translate", "1,-2,3e-1",
                      "--rotate", "0,0,1,90,1,2,3", "--representation", "vertex", "--weights=uniform",
-                     "--transform", "similarity", "--iterations", "7", "--tolerance", "1e-5", "--soft", "10",
+                     "--transform", "similarity", "--start", "identity", "--iterations", "7", "--tolerance", "1e-5", "--soft", "10",
                      "--solver", "cholmod", "--threads", "2", "-o", "out.obj", "--report", "r.json", "--force",
                      "--triangulate", "--progress", "never", "--quiet"}, o, error)) << error;
   EXPECT_EQ(o.mesh, "m.off");
@@ -63,6 +63,7 @@ TEST(LaplacianDeformCli, ParsesEveryOption)
   EXPECT_EQ(o.translate[2], 0.3);
   EXPECT_TRUE(o.has_rotate && o.has_center);
   EXPECT_EQ(o.angle_degrees, 90.);
+  EXPECT_EQ(o.start, "identity");
   EXPECT_EQ(o.center[1], 2.);
   EXPECT_EQ(o.representation, "vertex");
   EXPECT_EQ(o.weights, "uniform");
@@ -99,6 +100,7 @@ TEST(LaplacianDeformCli, RejectsBadCommandLines)
   EXPECT_EQ(parse_error({"m.off", "--iterations", "0"}), "option --iterations: expected a positive integer, got '0'");
   EXPECT_EQ(parse_error({"m.off", "--tolerance", "-1"}), "option --tolerance: expected a non-negative number, got '-1'");
   EXPECT_EQ(parse_error({"m.off", "--soft", "nan"}), "option --soft: expected a positive number, got 'nan'");
+  EXPECT_EQ(parse_error({"--start", "harmonic"}), "option --start: expected rotation or identity, got 'harmonic'");
   EXPECT_EQ(parse_error({"--transform", "arap"}),
             "option --transform: expected sr1, fixed, rotation, similarity, principal or rsr, got 'arap'");
   EXPECT_EQ(parse_error({"m.off", "--handle", "1", "--roi-rings", "2", "--translate", "1,2"}),
@@ -258,7 +260,7 @@ protected:
 // The deformation the library gives for the cactus task (the CLI's defaults: cotangent, S*R1,
 // hard constraints, 4 iterations, tolerance 0).
 template <class Representation>
-cli::Mesh library_result()
+cli::Mesh library_result(LD::Deformation_start start = LD::ROTATION_START)
 {
   cli::Mesh mesh;
   EXPECT_TRUE(read_data_mesh("cactus.off", mesh));
@@ -269,6 +271,7 @@ cli::Mesh library_result()
   EXPECT_TRUE(LD::IO::read_botsch08_selection(s, status, error, num_vertices(mesh))) << error;
   EXPECT_TRUE(LD::IO::read_botsch08_transform(d, t, error)) << error;
   LD::Mesh_deformer<cli::Mesh, Representation> deformer(mesh);
+  deformer.set_start(start);
   std::vector<cli::vertex_descriptor> handles;
   for(cli::vertex_descriptor v : vertices(mesh))
     if(status[v] == LD::IO::BOTSCH08_REGION_OF_INTEREST)
@@ -322,6 +325,19 @@ TEST_F(LaplacianDeformTool, CactusTaskReproducesTheLibraryExactly)
             report["selection"]["fixed"].get<std::size_t>(), 620u);
   EXPECT_EQ(report["motion"]["matrix"][3], nlohmann::json({0., 0., 0., 1.}));
   EXPECT_EQ(report["runs"][0]["max_handle_distance"], 0.);   // hard constraints
+  EXPECT_EQ(report["options"]["start"], "rotation");
+
+  // --start identity: the library's IDENTITY_START, also bit for bit; the cactus's handle turns,
+  // so the two starts differ
+  const Tool_result i = run({cactus, sel, def, "--start", "identity", "-o", "identity.off"});
+  ASSERT_EQ(i.code, 0) << i.err;
+  const cli::Mesh identity = library_result<LD::Edge_based_representation>(LD::IDENTITY_START);
+  expect_identical(dir / "identity.off", identity);
+  const cli::Mesh rotation = library_result<LD::Edge_based_representation>();
+  double difference = 0;
+  for(cli::vertex_descriptor v : vertices(identity))
+    difference = (std::max)(difference, std::sqrt(CGAL::squared_distance(identity.point(v), rotation.point(v))));
+  EXPECT_GT(difference, 1e-3);
 }
 
 TEST_F(LaplacianDeformTool, MainJobReproducesTheLibraryWithBothRepresentations)
