@@ -19,6 +19,7 @@
 #include <CGAL/Laplacian_deformation/Scaled_rotation_transform.h>
 #include <CGAL/Laplacian_deformation/Principal_scaled_rotation_transform.h>
 #include <CGAL/Laplacian_deformation/Rotation_scale_rotation_transform.h>
+#include <CGAL/Laplacian_deformation/Anchored_scaled_rotation_transform.h>
 #include <CGAL/Laplacian_deformation/Least_squares_solver.h>
 #include <CGAL/Laplacian_deformation/laplacian_matrix.h>
 #include <CGAL/Laplacian_deformation/Deformation_start.h>

@@ -129,7 +129,8 @@ class EveryCombination : public ::testing::Test {};
 #define LD_TRANSFORMS(R, W)                                                                            \
   Config<R, W, LD::Fixed_transform>, Config<R, W, LD::Rotation_transform>,                                \
   Config<R, W, LD::Similarity_transform>, Config<R, W, LD::Scaled_rotation_transform>,                    \
-  Config<R, W, LD::Principal_scaled_rotation_transform>, Config<R, W, LD::Rotation_scale_rotation_transform>
+  Config<R, W, LD::Principal_scaled_rotation_transform>, Config<R, W, LD::Rotation_scale_rotation_transform>, \
+  Config<R, W, LD::Anchored_scaled_rotation_transform>
 typedef ::testing::Types<
   LD_TRANSFORMS(LD::Vertex_based_representation, LD::Uniform_weights),
   LD_TRANSFORMS(LD::Vertex_based_representation, LD::Cotangent_weights),
@@ -210,7 +211,7 @@ class RotationBased : public ::testing::Test {};
 #define LD_ROTATION_BASED(R, W)                                                                        \
   Config<R, W, LD::Rotation_transform>, Config<R, W, LD::Similarity_transform>,                           \
   Config<R, W, LD::Scaled_rotation_transform>, Config<R, W, LD::Principal_scaled_rotation_transform>,     \
-  Config<R, W, LD::Rotation_scale_rotation_transform>
+  Config<R, W, LD::Rotation_scale_rotation_transform>, Config<R, W, LD::Anchored_scaled_rotation_transform>
 typedef ::testing::Types<
   LD_ROTATION_BASED(LD::Vertex_based_representation, LD::Uniform_weights),
   LD_ROTATION_BASED(LD::Vertex_based_representation, LD::Cotangent_weights),
@@ -810,46 +811,188 @@ TEST(MeshDeformerStart, RotateKeepsTheWindingOfLargeTurns)
   }
 }
 
+namespace {
+
+// the harness's cylinder task at test size: the top ring of the 41-ring tube turned by 90 degrees
+// about y and moved to the end of a quarter arc; the largest distance of the ring centroids from
+// the ideal arc, in tube radii, and the smallest signed turn of the centreline (degrees; < 0: an S)
+template <class Deformer>
+std::pair<double, double> bent_tube(LD::Deformation_start start, double rigidity, unsigned iterations)
+{
+  const double pi = 3.14159265358979323846, bend_radius = 4. / (pi / 2);
+  Surface_mesh m = to_mesh<Surface_mesh>(cylinder_soup(32, 40, 0.5, 4.));
+  const std::vector<vertex_descriptor> top = ring(m, 40);
+  std::vector<vertex_descriptor> roi;
+  for(vertex_descriptor v : vertices(m))
+    if(std::size_t(v) >= 32)
+      roi.push_back(v);
+  Deformer d(m);
+  d.set_start(start);
+  d.set_rigidity_weight(rigidity);
+  d.insert_roi_vertices(roi.begin(), roi.end());
+  d.insert_control_vertices(top.begin(), top.end());
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(pi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  for(vertex_descriptor v : top)
+  {
+    const Eigen::Vector3d p = positions(m)[std::size_t(v)] - Eigen::Vector3d(0, 0, 4);
+    d.set_target_position(v, to_point(r * p + Eigen::Vector3d(bend_radius, 0, bend_radius)));
+  }
+  const auto result = d.deform(iterations, 0.);
+  EXPECT_TRUE(result) << result.message;
+  double error = 0, turn = 180;
+  std::vector<Eigen::Vector3d> centroids;
+  for(int j = 0; j <= 40; ++j)
+  {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for(vertex_descriptor v : ring(m, j))
+      c += positions(m)[std::size_t(v)] / 32.;
+    // distance from the arc of radius bend_radius about (bend_radius, 0, 0) in the plane y = 0
+    const Eigen::Vector3d q = c - Eigen::Vector3d(bend_radius, 0, 0);
+    error = (std::max)(error, std::hypot(std::hypot(q.x(), q.z()) - bend_radius, q.y()) / 0.5);
+    centroids.push_back(c);
+  }
+  for(std::size_t j = 0; j + 2 < centroids.size(); ++j)
+  {
+    const Eigen::Vector3d a = centroids[j + 1] - centroids[j], b = centroids[j + 2] - centroids[j + 1];
+    turn = (std::min)(turn, std::atan2(a.cross(b).y(), a.dot(b)) * 180 / pi);
+  }
+  return { error, turn };
+}
+
+} // namespace
+
 TEST(MeshDeformerStart, BentTubeFollowsTheArcFromThePropagatedStart)
 {
-  // the harness's cylinder task at test size: the top ring turned by 90 degrees about y and moved
-  // to the end of a quarter arc; ring centroids against the ideal arc, after 10 iterations
   typedef Config<LD::Edge_based_representation, LD::Cotangent_weights, LD::Rotation_transform>::Deformer Deformer;
-  const double pi = 3.14159265358979323846, bend_radius = 4. / (pi / 2);
-  double error[2];
-  for(int k = 0; k < 2; ++k)
-  {
-    Surface_mesh m = to_mesh<Surface_mesh>(cylinder_soup(32, 40, 0.5, 4.));
-    const std::vector<vertex_descriptor> top = ring(m, 40);
-    std::vector<vertex_descriptor> roi;
-    for(vertex_descriptor v : vertices(m))
-      if(std::size_t(v) >= 32)
-        roi.push_back(v);
-    Deformer d(m);
-    d.set_start(k == 0 ? LD::IDENTITY_START : LD::ROTATION_START);
-    d.insert_roi_vertices(roi.begin(), roi.end());
-    d.insert_control_vertices(top.begin(), top.end());
-    const Eigen::Matrix3d r = Eigen::AngleAxisd(pi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    for(vertex_descriptor v : top)
-    {
-      const Eigen::Vector3d p = positions(m)[std::size_t(v)] - Eigen::Vector3d(0, 0, 4);
-      d.set_target_position(v, to_point(r * p + Eigen::Vector3d(bend_radius, 0, bend_radius)));
-    }
-    ASSERT_TRUE(d.deform(10, 0.));
-    error[k] = 0;
-    for(int j = 0; j <= 40; ++j)
-    {
-      Eigen::Vector3d c = Eigen::Vector3d::Zero();
-      for(vertex_descriptor v : ring(m, j))
-        c += positions(m)[std::size_t(v)] / 32.;
-      // distance of the centroid from the arc of radius bend_radius about (bend_radius, 0, 0) in y = 0
-      const Eigen::Vector3d q = c - Eigen::Vector3d(bend_radius, 0, 0);
-      error[k] = (std::max)(error[k], std::abs(std::hypot(q.x(), q.z()) - bend_radius) + std::abs(q.y()));
-    }
-  }
+  const auto identity = bent_tube<Deformer>(LD::IDENTITY_START, 0., 10);
+  const auto rotation = bent_tube<Deformer>(LD::ROTATION_START, 0., 10);
   std::cout << "[measured] bent tube, edge rotation, 10 iterations: ring centroids off the arc by "
-            << error[0] / 0.5 << " (identity start) and " << error[1] / 0.5 << " (rotation start) tube radii"
-            << std::endl;
-  EXPECT_LE(error[1] / 0.5, 0.3);
-  EXPECT_GT(error[0], 2 * error[1]);
+            << identity.first << " (identity start) and " << rotation.first << " (rotation start) tube radii; "
+            << "smallest turn " << identity.second << " and " << rotation.second << " degrees" << std::endl;
+  EXPECT_LE(rotation.first, 0.3);
+  EXPECT_GE(rotation.second, 0.);      // no reversal
+  EXPECT_LT(identity.second, 0.);      // the identity start bends in an S
+  EXPECT_GT(identity.first, 2 * rotation.first);
+}
+
+namespace {
+
+// the harness's twisted tube at test size: the top ring of the 41-ring tube twisted by 135 degrees
+// about z, bottom ring fixed; the middle ring's twist angle (degrees) and radius ratio
+template <class Deformer>
+std::pair<double, double> twisted_tube(LD::Deformation_start start, double rigidity, unsigned iterations)
+{
+  const double pi = 3.14159265358979323846;
+  Surface_mesh m = to_mesh<Surface_mesh>(cylinder_soup(32, 40, 0.5, 4.));
+  const auto rest = positions(m);
+  const std::vector<vertex_descriptor> top = ring(m, 40);
+  std::vector<vertex_descriptor> roi;
+  for(vertex_descriptor v : vertices(m))
+    if(std::size_t(v) >= 32)
+      roi.push_back(v);
+  Deformer d(m);
+  d.set_start(start);
+  d.set_rigidity_weight(rigidity);
+  d.insert_roi_vertices(roi.begin(), roi.end());
+  d.insert_control_vertices(top.begin(), top.end());
+  for(vertex_descriptor v : top)
+    d.set_target_position(v, to_point(Eigen::AngleAxisd(0.75 * pi, Eigen::Vector3d::UnitZ()) * rest[std::size_t(v)]));
+  const auto r = d.deform(iterations, 0.);
+  EXPECT_TRUE(r) << r.message;
+  const std::vector<vertex_descriptor> middle = ring(m, 20);
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for(vertex_descriptor v : middle)
+    c += positions(m)[std::size_t(v)] / double(middle.size());
+  double angle = 0, radius = 0;
+  for(vertex_descriptor v : middle)
+  {
+    const Eigen::Vector3d p = positions(m)[std::size_t(v)] - c, q = rest[std::size_t(v)] - Eigen::Vector3d(0, 0, 2);
+    angle += std::atan2(q.x() * p.y() - q.y() * p.x(), q.x() * p.x() + q.y() * p.y()) / double(middle.size());
+    radius += std::hypot(p.x(), p.y()) / 0.5 / double(middle.size());
+  }
+  return { angle * 180 / pi, radius };
+}
+
+} // namespace
+
+TEST(MeshDeformerStart, TwistedTubeKeepsItsRadiusWithRigidityRows)
+{
+  typedef LD::Cotangent_weights C;
+  typedef Config<LD::Edge_based_representation, C, LD::Rotation_transform>::Deformer Edge_rotation;
+  typedef Config<LD::Edge_based_representation, C, LD::Anchored_scaled_rotation_transform>::Deformer Edge_anchored;
+  typedef Config<LD::Vertex_based_representation, C, LD::Rotation_transform>::Deformer Vertex_rotation;
+  const auto plain = twisted_tube<Edge_rotation>(LD::ROTATION_START, 0., 10);
+  const auto rigid = twisted_tube<Edge_rotation>(LD::ROTATION_START, 0.3, 10);
+  const auto anchored = twisted_tube<Edge_anchored>(LD::ROTATION_START, 0.3, 10);
+  const auto vertex = twisted_tube<Vertex_rotation>(LD::ROTATION_START, 0., 10);
+  const auto identity = twisted_tube<Edge_rotation>(LD::IDENTITY_START, 0., 10);
+  std::cout << "[measured] twisted tube (135 degrees), 10 iterations, middle ring twist and radius ratio: edge rotation "
+            << plain.first << " deg " << plain.second << ", with rigidity 0.3 " << rigid.first << " deg " << rigid.second
+            << "; edge anchored S*R1 with rigidity 0.3 " << anchored.first << " deg " << anchored.second
+            << "; vertex rotation " << vertex.first << " deg " << vertex.second << "; edge rotation, identity start "
+            << identity.first << " deg " << identity.second << std::endl;
+  // the propagated start twists the middle exactly; the edge-based Laplacian alone shrinks the ring
+  EXPECT_NEAR(plain.first, 67.5, 5.);
+  EXPECT_NEAR(anchored.first, 67.5, 5.);
+  EXPECT_LT(plain.second, 0.6);
+  EXPECT_GE(rigid.second, 0.85);
+  EXPECT_GE(anchored.second, 0.85);
+}
+
+TEST(MeshDeformerStart, AnchoredScalesDoNotDriftWorldAxisScalesDo)
+{
+  typedef LD::Cotangent_weights C;
+  typedef Config<LD::Edge_based_representation, C, LD::Anchored_scaled_rotation_transform>::Deformer Edge_anchored;
+  typedef Config<LD::Edge_based_representation, C, LD::Scaled_rotation_transform>::Deformer Edge_sr1;
+  const auto a10 = twisted_tube<Edge_anchored>(LD::ROTATION_START, 0.3, 10);
+  const auto a50 = twisted_tube<Edge_anchored>(LD::ROTATION_START, 0.3, 50);
+  const auto s10 = twisted_tube<Edge_sr1>(LD::ROTATION_START, 0.3, 10);
+  const auto s50 = twisted_tube<Edge_sr1>(LD::ROTATION_START, 0.3, 50);
+  const auto b10 = bent_tube<Edge_anchored>(LD::ROTATION_START, 0., 10);
+  const auto b50 = bent_tube<Edge_anchored>(LD::ROTATION_START, 0., 50);
+  const auto c10 = bent_tube<Edge_sr1>(LD::ROTATION_START, 0., 10);
+  const auto c50 = bent_tube<Edge_sr1>(LD::ROTATION_START, 0., 50);
+  std::cout << "[measured] 10 -> 50 iterations: twisted tube radius (rigidity 0.3) anchored " << a10.second << " -> "
+            << a50.second << ", S*R1 " << s10.second << " -> " << s50.second << "; bent tube arc error (tube radii) anchored "
+            << b10.first << " -> " << b50.first << ", S*R1 " << c10.first << " -> " << c50.first << std::endl;
+  EXPECT_LE(std::abs(a50.second - a10.second), 0.01);
+  EXPECT_LE(b50.first, 0.3);
+  EXPECT_GE(b50.second, 0.);
+  EXPECT_LT(s50.second, s10.second - 0.2);       // world-axis S*R1 keeps shrinking the ring
+  EXPECT_GT(c50.first, 2 * c10.first);           // and drifts off the arc
+}
+
+TEST(MeshDeformerStart, RigidityRowsKeepRigidMotionsAndRefuseBadWeights)
+{
+  typedef Config<LD::Edge_based_representation, LD::Cotangent_weights, LD::Rotation_transform>::Deformer Deformer;
+  const Eigen::Matrix3d g = some_rotation();
+  const Eigen::Vector3d t(1, 2, 3);
+  Surface_mesh m = bumpy_sphere();
+  const auto rest = positions(m);
+  const std::vector<vertex_descriptor> controls = controls_near(m, Eigen::Vector3d(0, 0, 1), 0.45);
+  Deformer d(m);
+  d.set_rigidity_weight(0.3);
+  EXPECT_EQ(d.rigidity_weight(), 0.3);
+  d.insert_roi_vertices(vertices(m).begin(), vertices(m).end());
+  d.insert_control_vertices(controls.begin(), controls.end());
+  for(vertex_descriptor v : controls)
+    d.set_target_position(v, to_point(g * rest[std::size_t(v)] + t));
+  ASSERT_TRUE(d.deform(1, 0.));
+  std::vector<Eigen::Vector3d> expected;
+  for(const auto& p : rest)
+    expected.push_back(g * p + t);
+  EXPECT_LE(max_distance(positions(m), expected, diagonal(m)), 1e-10);
+  ASSERT_TRUE(d.deform(3, 0.));                                    // and stays there
+  EXPECT_LE(max_distance(positions(m), expected, diagonal(m)), 1e-10);
+
+  for(double bad : {-1., std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()})
+  {
+    const auto before = positions(m);
+    d.set_rigidity_weight(bad);
+    const auto r = d.deform(1, 0.);
+    EXPECT_EQ(r.status, LD::INVALID_PARAMETER);
+    EXPECT_EQ(positions(m), before);
+  }
+  d.set_rigidity_weight(0.);
+  EXPECT_TRUE(d.deform(1, 0.));
 }

@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <array>
+#include <numeric>
 #include <cmath>
 #include <optional>
 #include <chrono>
@@ -290,6 +291,14 @@ public:
   void set_start(Deformation_start start) { m_start = start; }
   /// the start of the iterations.
   Deformation_start start() const { return m_start; }
+  /// adds, with relative weight `weight` (>= 0; default 0: none), one rigidity row per spoke of
+  /// the node graph: <code>sqrt(c_ab) (x'_a - x'_b) = sqrt(c_ab) T_a (x_a - x_b)</code>, next to
+  /// the Laplacian rows (see \ref LapDefTwist). The weight is relative to the Laplacian rows (the
+  /// squared Frobenius norms of both operators), so that a uniform scaling of the problem does not
+  /// change the result. Refactors at the next call.
+  void set_rigidity_weight(double weight) { m_rigidity_weight = weight; m_need_preprocess = true; }
+  /// the relative weight of the spoke rigidity rows.
+  double rigidity_weight() const { return m_rigidity_weight; }
   /// @}
 
   /// \name Deformation
@@ -318,12 +327,18 @@ public:
       return fail(EMPTY_REGION_OF_INTEREST, "the region of interest is empty");
     if(m_soft && !(m_soft_weight > 0 && std::isfinite(m_soft_weight)))
       return fail(INVALID_PARAMETER, "the soft constraint weight must be positive and finite");
+    if(!(m_rigidity_weight >= 0 && std::isfinite(m_rigidity_weight)))
+      return fail(INVALID_PARAMETER, "the rigidity weight must be non-negative and finite");
     build_operator();
+    if(m_rigidity_weight > 0)
+      build_rigidity_rows();
     std::vector<unsigned char> role(m_number_of_vertices, internal::FIXED_VERTEX);
     for(vertex_descriptor v : m_roi)
       role[index(v)] = !m_is_control[index(v)] ? internal::FREE_VERTEX
                        : m_soft ? internal::SOFT_CONTROL_VERTEX : internal::HARD_CONTROL_VERTEX;
-    m_last = m_core.preprocess(m_stencils, m_d, m_delta, m_rest_nodes, role, m_soft_weight);
+    m_last = m_rigidity_weight > 0
+                 ? m_core.preprocess(m_stencils, m_rigid_d, m_rigid_delta, m_rest_nodes, role, m_soft_weight, &m_rigid_owner)
+                 : m_core.preprocess(m_stencils, m_d, m_delta, m_rest_nodes, role, m_soft_weight);
     m_last.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if(!m_last)
       return false;
@@ -608,6 +623,62 @@ private:
       p.row(Eigen::Index(v)) = m_rest[v].transpose();
     m_delta = m_d * p;
     m_operator_ready = true;
+    m_rigid_ready = false;
+  }
+  // [D; lambda S]: S has one row sqrt(c_ab) (x_a - x_b) per spoke (a, b), owned by a;
+  // lambda^2 = weight |D|_F^2 / |S|_F^2. Rebuilt only when the weight or the operator changed.
+  void build_rigidity_rows()
+  {
+    if(m_rigid_ready && m_rigid_built_weight == m_rigidity_weight)
+      return;
+    const internal::Laplacian_stencils& s = m_stencils;
+    typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Operator;
+    std::vector<Eigen::Triplet<double> > triplets;
+    std::vector<std::size_t> spoke_owner;
+    for(std::size_t a = 0; a < s.number_of_nodes; ++a)
+      for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
+      {
+        const double c = std::sqrt((std::max)(s.weight[k], 0.));
+        if(!(c > 0))
+          continue;
+        const Eigen::Index row = Eigen::Index(spoke_owner.size());
+        const std::size_t b = s.neighbor[k];
+        for(std::size_t i = s.combination_start[a]; i < s.combination_start[a + 1]; ++i)
+          triplets.emplace_back(row, Eigen::Index(s.combination_vertex[i]), c * s.combination_coefficient[i]);
+        for(std::size_t i = s.combination_start[b]; i < s.combination_start[b + 1]; ++i)
+          triplets.emplace_back(row, Eigen::Index(s.combination_vertex[i]), -c * s.combination_coefficient[i]);
+        spoke_owner.push_back(a);
+      }
+    Operator spokes(Eigen::Index(spoke_owner.size()), Eigen::Index(m_number_of_vertices));
+    spokes.setFromTriplets(triplets.begin(), triplets.end());
+    std::vector<Eigen::Triplet<double> >().swap(triplets);
+    spokes.prune([](Eigen::Index, Eigen::Index, double v) { return v != 0; });   // x_a - x_b shares vertices
+    const double ds = m_d.squaredNorm(), ss = spokes.squaredNorm();
+    const double lambda = ss > 0 ? std::sqrt(m_rigidity_weight * ds / ss) : 0.;
+    spokes *= lambda;
+    const Eigen::Index n1 = m_d.rows(), n2 = spokes.rows();
+    m_rigid_d.resize(n1 + n2, Eigen::Index(m_number_of_vertices));
+    m_rigid_d.reserve(m_d.nonZeros() + spokes.nonZeros());
+    for(const Operator* m : { &m_d, &spokes })
+      for(Eigen::Index r = 0; r < m->rows(); ++r)
+      {
+        const Eigen::Index row = (m == &m_d ? 0 : n1) + r;
+        m_rigid_d.startVec(row);
+        for(Operator::InnerIterator it(*m, r); it; ++it)
+          m_rigid_d.insertBack(row, it.col()) = it.value();
+      }
+    m_rigid_d.finalize();
+    m_rigid_owner.resize(std::size_t(n1 + n2));
+    std::iota(m_rigid_owner.begin(), m_rigid_owner.begin() + n1, std::size_t(0));
+    std::copy(spoke_owner.begin(), spoke_owner.end(), m_rigid_owner.begin() + n1);
+    Eigen::MatrixX3d p(m_rest.size(), 3);
+    for(std::size_t v = 0; v < m_rest.size(); ++v)
+      p.row(Eigen::Index(v)) = m_rest[v].transpose();
+    m_rigid_delta.resize(n1 + n2, 3);
+    m_rigid_delta.topRows(n1) = m_delta;
+    m_rigid_delta.bottomRows(n2) = spokes * p;
+    m_rigid_built_weight = m_rigidity_weight;
+    m_rigid_ready = true;
   }
   double region_diagonal() const
   {
@@ -639,6 +710,11 @@ private:
   std::vector<unsigned char> m_rotation_known;         // whether it is known (see rotate())
   Deformation_start m_start = ROTATION_START;
   bool m_field_ready = false;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> m_rigid_d;   // [D; lambda S] when rigidity_weight() > 0
+  Eigen::MatrixX3d m_rigid_delta;
+  std::vector<std::size_t> m_rigid_owner;
+  double m_rigidity_weight = 0, m_rigid_built_weight = 0;
+  bool m_rigid_ready = false;
   Deformation_result m_last;
   double m_diagonal = 0;
   double m_soft_weight = 1.;

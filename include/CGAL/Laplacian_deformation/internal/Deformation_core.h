@@ -48,11 +48,14 @@ class Deformation_core
 public:
   typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Operator;
 
-  // `d`: the full operator (nodes x vertices, by rows); `delta` = D p_rest; `rest_nodes` = P p_rest.
+  // `d`: the full operator (rows x vertices, by rows); `delta` = D p_rest; `rest_nodes` = P p_rest.
+  // Row r of D uses the transform of node `owner[r]` (b_r = T_owner delta_r); without `owner`,
+  // the rows are the nodes themselves (row a is node a's Laplacian row).
   Deformation_result preprocess(const Laplacian_stencils& s, const Operator& d,
                                 const Eigen::MatrixX3d& delta,
                                 const std::vector<Eigen::Vector3d>& rest_nodes,
-                                const std::vector<unsigned char>& role, double soft_weight)
+                                const std::vector<unsigned char>& role, double soft_weight,
+                                const std::vector<std::size_t>* owner = nullptr)
   {
     Deformation_result result;
     m_ready = false;
@@ -70,9 +73,10 @@ public:
       }
     const Eigen::Index nu = static_cast<Eigen::Index>(m_unknowns.size());
 
-    // rows: every node whose row of D touches an unknown vertex, in increasing order
+    // rows: every row of D that touches an unknown vertex, in increasing order; the nodes whose
+    // transforms they use (the fitted nodes), increasing, and each row's fitted node
     m_rows.clear();
-    for(std::size_t a = 0; a < s.number_of_nodes; ++a)
+    for(std::size_t a = 0; a < std::size_t(d.rows()); ++a)
       for(Operator::InnerIterator it(d, Eigen::Index(a)); it; ++it)
         if(m_unknown_index[std::size_t(it.col())] >= 0)
         {
@@ -80,6 +84,22 @@ public:
           break;
         }
     const Eigen::Index nr = static_cast<Eigen::Index>(m_rows.size());
+    {
+      auto owner_of = [owner](std::size_t r) { return owner ? (*owner)[r] : r; };
+      std::vector<long> fit_index(s.number_of_nodes, -1);
+      for(std::size_t r : m_rows)
+        fit_index[owner_of(r)] = 0;
+      m_fit_nodes.clear();
+      for(std::size_t a = 0; a < s.number_of_nodes; ++a)
+        if(fit_index[a] == 0)
+        {
+          fit_index[a] = long(m_fit_nodes.size());
+          m_fit_nodes.push_back(a);
+        }
+      m_row_fit.resize(m_rows.size());
+      for(std::size_t r = 0; r < m_rows.size(); ++r)
+        m_row_fit[r] = std::size_t(fit_index[owner_of(m_rows[r])]);
+    }
 
     // split D[rows, :] into the unknown block A and the known block K, both assembled in
     // compressed column form from D's rows taken in increasing order (so every column is sorted)
@@ -181,17 +201,15 @@ public:
     // per-row data for the local step: delta; the cells (rest and current edges, fit weights)
     // are gathered per row in the local step, from m_rest_nodes and the stencils
     m_delta.resize(nr, 3);
-    m_max_degree = 0;
     for(std::size_t r = 0; r < m_rows.size(); ++r)
-    {
-      const std::size_t a = m_rows[r];
-      m_delta.row(Eigen::Index(r)) = delta.row(Eigen::Index(a));
+      m_delta.row(Eigen::Index(r)) = delta.row(Eigen::Index(m_rows[r]));
+    m_max_degree = 0;
+    for(std::size_t a : m_fit_nodes)
       m_max_degree = (std::max)(m_max_degree, s.degree(a));
-    }
     m_rest_nodes = &rest_nodes;
-    // the nodes the local step evaluates: the rows and their neighbours, each once
+    // the nodes the local step evaluates: the fitted nodes and their neighbours, each once
     std::vector<char> needed(s.number_of_nodes, 0);
-    for(std::size_t a : m_rows)
+    for(std::size_t a : m_fit_nodes)
     {
       needed[a] = 1;
       for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
@@ -202,7 +220,7 @@ public:
       if(needed[a])
         m_needed_nodes.push_back(a);
     m_node_positions.assign(s.number_of_nodes, Eigen::Vector3d::Zero());
-    m_transforms.assign(m_rows.size(), Eigen::Matrix3d::Identity());
+    m_transforms.assign(m_fit_nodes.size(), Eigen::Matrix3d::Identity());
     m_known_vertices.clear();
     for(std::size_t v = 0; v < n; ++v)
       if(m_known.outerIndexPtr()[v + 1] > m_known.outerIndexPtr()[v])
@@ -309,12 +327,13 @@ public:
   template <class F>
   void set_start_transforms(const F& f)
   {
-    for(std::size_t r = 0; r < m_rows.size(); ++r)
-      m_transforms[r] = f(m_rows[r]);
+    for(std::size_t i = 0; i < m_fit_nodes.size(); ++i)
+      m_transforms[i] = f(m_fit_nodes[i]);
   }
 
   bool is_ready() const { return m_ready; }
-  const std::vector<std::size_t>& rows() const { return m_rows; }
+  // the nodes whose transforms are fitted (the owners of the rows), increasing; `transforms()` is parallel to it
+  const std::vector<std::size_t>& rows() const { return m_fit_nodes; }
   const std::vector<Eigen::Matrix3d>& transforms() const { return m_transforms; }
   std::size_t number_of_factorizations() const { return m_solver.number_of_factorizations(); }
 
@@ -365,7 +384,7 @@ private:
   {
     for_each_block(m_rows.size(), [&](std::size_t begin, std::size_t end) {
       for(std::size_t r = begin; r < end; ++r)
-        b.row(Eigen::Index(r)) = (m_transforms[r] * m_delta.row(Eigen::Index(r)).transpose()).transpose() -
+        b.row(Eigen::Index(r)) = (m_transforms[m_row_fit[r]] * m_delta.row(Eigen::Index(r)).transpose()).transpose() -
                                  m_known_part.row(Eigen::Index(r));
     });
     for_each_block(std::size_t(m_a.cols()), [&](std::size_t begin, std::size_t end) {
@@ -395,7 +414,7 @@ private:
     return std::accumulate(m_row_energy.begin(), m_row_energy.end(), 0.);
   }
 
-  // fits T_a for every row node, in parallel when ConcurrencyTag allows it; each block of rows
+  // fits T_a for every fitted node, in parallel when ConcurrencyTag allows it; each block of rows
   // gathers its cells into buffers of its own (one allocation per block, none per row)
   void local_step(const std::vector<Eigen::Vector3d>& p)
   {
@@ -411,12 +430,12 @@ private:
       }
     });
     const std::vector<Eigen::Vector3d>& rest = *m_rest_nodes;
-    for_each_block(m_rows.size(), [&](std::size_t begin, std::size_t end) {
+    for_each_block(m_fit_nodes.size(), [&](std::size_t begin, std::size_t end) {
       std::vector<Eigen::Vector3d> rest_edges(m_max_degree), current_edges(m_max_degree);
       std::vector<double> fit_weights(m_max_degree);
       for(std::size_t r = begin; r < end; ++r)
       {
-        const std::size_t a = m_rows[r], first = s.neighbor_start[a], degree = s.neighbor_start[a + 1] - first;
+        const std::size_t a = m_fit_nodes[r], first = s.neighbor_start[a], degree = s.neighbor_start[a + 1] - first;
         const Eigen::Vector3d &xa = m_node_positions[a], &ra = rest[a];
         for(std::size_t i = 0; i < degree; ++i)
         {
@@ -437,6 +456,7 @@ private:
   Least_squares_solver<SolverTraits, ConcurrencyTag> m_solver;
   std::vector<long> m_unknown_index;
   std::vector<std::size_t> m_unknowns, m_rows, m_needed_nodes, m_soft;
+  std::vector<std::size_t> m_fit_nodes, m_row_fit;   // the fitted nodes; per row, its fitted node
   std::size_t m_max_degree = 0;
   const std::vector<Eigen::Vector3d>* m_rest_nodes = nullptr;   // P p_rest, owned by the caller
   Eigen::SparseMatrix<double> m_a, m_known;
