@@ -37,6 +37,8 @@ std::string method_line(const Options& o, const std::string& representation, uns
   std::ostringstream s;
   s << (representation.empty() ? std::string("vertex- and edge-based") : representation + "-based") << ", "
     << o.weights << " weights, " << transform_label(o.transform) << " transforms, " << o.start << " start, ";
+  if(o.rigidity > 0)
+    s << "rigidity rows (weight " << o.rigidity << "), ";
   if(o.soft)
     s << "soft constraints (weight " << o.soft_weight << "), ";
   else
@@ -261,7 +263,7 @@ int run_tool(const std::vector<std::string>& args, std::ostream& out, std::ostre
                   {task.transform(1, 0), task.transform(1, 1), task.transform(1, 2), task.transform(1, 3)},
                   {task.transform(2, 0), task.transform(2, 1), task.transform(2, 2), task.transform(2, 3)},
                   {task.transform(3, 0), task.transform(3, 1), task.transform(3, 2), task.transform(3, 3)}}}}},
-              {"options", {{"weights", o.weights}, {"transform", o.transform}, {"start", o.start}, {"solver", o.solver},
+              {"options", {{"weights", o.weights}, {"transform", o.transform}, {"start", o.start}, {"rigidity", o.rigidity}, {"solver", o.solver},
                            {"iterations", o.iterations}, {"tolerance", o.tolerance},
                            {"constraints", o.soft ? "soft" : "hard"}, {"soft_weight", o.soft ? o.soft_weight : 0.},
                            {"threads", threads}}},

@@ -81,6 +81,7 @@ struct Options
   std::string representation = "edge", weights = "cotangent", transform = "sr1", solver = default_solver();
   unsigned int iterations = 4;
   std::string start = "rotation";   // identity | rotation (Mesh_deformer::set_start)
+  double rigidity = 0;              // Mesh_deformer::set_rigidity_weight
   double tolerance = 0;
   bool soft = false;
   double soft_weight = 1;
@@ -136,9 +137,12 @@ inline const char* usage_text()
 "Method:\n"
 "  --representation edge|vertex        nodes at edge midpoints (default) or at vertices\n"
 "  --weights cotangent|uniform         (default cotangent)\n"
-"  --transform sr1|fixed|rotation|similarity|principal|rsr\n"
+"  --transform sr1|fixed|rotation|similarity|principal|rsr|anchored\n"
 "                        per-node transform: the paper's S*R1 (default), identity, rotation,\n"
-"                        rotation and isotropic scale, principal-axes S*R1, R2*S*R1\n"
+"                        rotation and isotropic scale, principal-axes S*R1, R2*S*R1, S*R1 with\n"
+"                        its scales anchored at 1 (does not drift)\n"
+"  --rigidity W          add rigidity rows of relative weight W on the node graph's spokes\n"
+"                        (default 0; 0.3 keeps a twisted tube's radius, see the manual)\n"
 "  --iterations N        iterations (default 4, the paper's 3 to 4)\n"
 "  --start rotation|identity\n"
 "                        first solve: the handles' rotation propagated by a harmonic field\n"
@@ -283,7 +287,7 @@ inline bool parse_command_line(const std::vector<std::string>& args, Options& o,
 
     static const char* const flags[] = {"--help", "--force", "--triangulate", "--compare", "--quiet"};
     static const char* const valued[] = {"--output", "--output-dir", "--report", "--representation", "--weights",
-                                         "--transform", "--start", "--solver", "--iterations", "--tolerance", "--soft",
+                                         "--transform", "--start", "--rigidity", "--solver", "--iterations", "--tolerance", "--soft",
                                          "--threads", "--handle", "--roi-rings", "--roi-radius", "--translate",
                                          "--rotate", "--progress"};
     const bool is_flag = std::find_if(std::begin(flags), std::end(flags),
@@ -352,9 +356,9 @@ inline bool parse_command_line(const std::vector<std::string>& args, Options& o,
     }
     else if(arg == "--transform")
     {
-      if(!detail::one_of(value, {"sr1", "fixed", "rotation", "similarity", "principal", "rsr"}))
+      if(!detail::one_of(value, {"sr1", "fixed", "rotation", "similarity", "principal", "rsr", "anchored"}))
       {
-        return bad("sr1, fixed, rotation, similarity, principal or rsr");
+        return bad("sr1, fixed, rotation, similarity, principal, rsr or anchored");
       }
       o.transform = value;
     }
@@ -408,6 +412,14 @@ inline bool parse_command_line(const std::vector<std::string>& args, Options& o,
     }
     else if(arg == "--tolerance")
     { if(!detail::parse_double(value, x) || x < 0) return bad("a non-negative number"); o.tolerance = x; }
+    else if(arg == "--rigidity")
+    {
+      if(!detail::parse_double(value, x) || !(x >= 0) || !std::isfinite(x))
+      {
+        return bad("a non-negative finite number");
+      }
+      o.rigidity = x;
+    }
     else if(arg == "--soft")
     { if(!detail::parse_double(value, x) || !(x > 0)) return bad("a positive number"); o.soft = true; o.soft_weight = x; }
     else if(arg == "--roi-radius")
@@ -968,6 +980,7 @@ inline const char* transform_label(const std::string& t)
   if(t == "rotation") return "rotation";
   if(t == "similarity") return "similarity";
   if(t == "principal") return "principal-axes S*R1";
+  if(t == "anchored") return "anchored S*R1";
   return "R2*S*R1";
 }
 

@@ -22,6 +22,7 @@
 #include <CGAL/Laplacian_deformation/Scaled_rotation_transform.h>
 #include <CGAL/Laplacian_deformation/Principal_scaled_rotation_transform.h>
 #include <CGAL/Laplacian_deformation/Rotation_scale_rotation_transform.h>
+#include <CGAL/Laplacian_deformation/Anchored_scaled_rotation_transform.h>
 #include <CGAL/Laplacian_deformation/Least_squares_solver.h>
 #ifdef LAPLACIAN_DEFORM_HAS_CHOLMOD
 #include <CGAL/Laplacian_deformation/Cholmod_solver_traits.h>
@@ -56,6 +57,7 @@ void deform_run(const Task& task, const Options& o, Run_record& run, Progress& p
   if(o.soft)
     deformer.set_soft_constraints(o.soft_weight);
   deformer.set_start(o.start == "identity" ? LD::IDENTITY_START : LD::ROTATION_START);
+  deformer.set_rigidity_weight(o.rigidity);
 
   progress.stage(run.name() + ": preprocessing (building and factoring the system)");
   const Clock::time_point t0 = Clock::now();
@@ -148,7 +150,7 @@ void run_with_transform(const Task& task, const Options& o, Run_record& run, Pro
 #define LAPLACIAN_DEFORM_TRANSFORMS(X)                                                   \
   X(LD::Scaled_rotation_transform) X(LD::Fixed_transform) X(LD::Rotation_transform)     \
   X(LD::Similarity_transform) X(LD::Principal_scaled_rotation_transform)                \
-  X(LD::Rotation_scale_rotation_transform)
+  X(LD::Rotation_scale_rotation_transform) X(LD::Anchored_scaled_rotation_transform)
 
 #define LAPLACIAN_DEFORM_EXTERN(T) \
   extern template void run_with_transform<T>(const Task&, const Options&, Run_record&, Progress&);
@@ -166,6 +168,7 @@ inline void run_deformation(const Task& task, const Options& o, Run_record& run,
   else if(run.transform == "rotation") run_with_transform<LD::Rotation_transform>(task, o, run, progress);
   else if(run.transform == "similarity") run_with_transform<LD::Similarity_transform>(task, o, run, progress);
   else if(run.transform == "principal") run_with_transform<LD::Principal_scaled_rotation_transform>(task, o, run, progress);
+  else if(run.transform == "anchored") run_with_transform<LD::Anchored_scaled_rotation_transform>(task, o, run, progress);
   else if(run.transform == "rsr") run_with_transform<LD::Rotation_scale_rotation_transform>(task, o, run, progress);
   else run_with_transform<LD::Scaled_rotation_transform>(task, o, run, progress);
 }
