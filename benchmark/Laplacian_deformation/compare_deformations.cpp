@@ -343,7 +343,7 @@ int run_convergence(unsigned iterations, const fs::path& out_dir, const std::vec
       std::cerr << task.name << " (convergence): " << method.method << " " << method.representation << " "
                 << method.transform << " " << method.start << std::endl;
       const std::string prefix = task.name + ',' + method.method + ',' + method.representation + ',' + method.weights +
-                                 ',' + method.transform + ',' + method.start + ',';
+                                 ',' + method.transform + ',' + (method.method == "ours" ? method.start : "-") + ',';
       Mesh m;
       Record r;
       const bool ok = method.run(task, iterations, m, r, [&](unsigned it, const Mesh& deformed) {

@@ -45,7 +45,9 @@
 //   measure twist DIR POSITION IDEAL_DEGREES: the slice of rest coordinate POSITION along DIR
 //     (the one nearest to it). twist_mid_deg = the mean signed angle about DIR (right-hand rule)
 //     from each slice vertex's rest offset to its deformed offset from the slice centroid (both
-//     projected on the plane normal to DIR; vertices at the centroid skipped), in degrees;
+//     projected on the plane normal to DIR; vertices at the centroid skipped), in degrees in
+//     (-180, 180]: the circular mean (the angle of the sum of the angles' unit vectors: the plain
+//     mean when they agree, and no cancellation where they wrap at 180 degrees);
 //     IDEAL_DEGREES is the intended angle (reported as twist_ideal_deg).
 //     twist_mid_radius_ratio = the mean distance of the slice vertices from their centroid,
 //     deformed / rest.
@@ -669,7 +671,7 @@ inline Task_metrics task_metrics(const Task& task, const Mesh& deformed)
     Eigen::Vector3d axis = Eigen::Vector3d::Zero();
     axis[task.twist_axis] = task.twist_sign;
     const Eigen::Vector3d c0 = internal::centroid(rest, slice), c1 = internal::centroid(deformed, slice);
-    double angle = 0, r0 = 0, r1 = 0;
+    double sum_sin = 0, sum_cos = 0, r0 = 0, r1 = 0;
     std::size_t counted = 0;
     for(vertex_descriptor v : slice)
     {
@@ -679,12 +681,14 @@ inline Task_metrics task_metrics(const Task& task, const Mesh& deformed)
       const Eigen::Vector3d pa = a - a.dot(axis) * axis, pb = b - b.dot(axis) * axis;
       if(pa.norm() > tolerance && pb.norm() > tolerance)
       {
-        angle += internal::signed_angle(pa, pb, axis);
+        const double angle = internal::signed_angle(pa, pb, axis);
+        sum_sin += std::sin(angle);
+        sum_cos += std::cos(angle);
         ++counted;
       }
     }
     if(counted)
-      out.twist_mid_deg = angle / double(counted) * 180. / pi;
+      out.twist_mid_deg = std::atan2(sum_sin, sum_cos) * 180. / pi;   // the circular mean
     out.twist_ideal_deg = task.twist_ideal;
     if(r0 > 0)
       out.twist_mid_radius_ratio = r1 / r0;
