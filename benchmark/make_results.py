@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Writes benchmark/RESULTS.md (to stdout) from the harness output folder (results.csv,
-results.md, bench.json) and the figures in benchmark/figures/. Called by run_harness.sh.
+results.md, convergence.csv, bench.json) and the figures in benchmark/figures/; draws the
+convergence figures (benchmark/figures/convergence_<task>_<metric>.svg) from convergence.csv.
+Called by run_harness.sh.
    usage: make_results.py OUT BENCHMARK_DIR ITERATIONS LEVELS"""
 import csv
 import datetime
@@ -55,10 +57,13 @@ def number(row, key):
         return float('nan')
 
 
-def find(task, method, representation, weights, transform):
+def find(task, method, representation, weights, transform, start=None):
+    """The row of a successful run; ours: the rotation start (the library's default) unless `start`."""
+    if start is None:
+        start = 'rotation' if method == 'ours' else '-'
     for r in rows:
-        if (r['task'], r['method'], r['representation'], r['weights'], r['transform']) == \
-                (task, method, representation, weights, transform) and r['status'] == 'ok':
+        if (r['task'], r['method'], r['representation'], r['weights'], r['transform'], r.get('start', start)) == \
+                (task, method, representation, weights, transform, start) and r['status'] == 'ok':
             return r
     return None
 
@@ -82,8 +87,8 @@ p('- Machine: %s, %s logical CPUs (shared with other jobs while measured: timing
 p('- Compiler: %s, Release build; CGAL %s (Debian), its `Surface_mesh_deformation` with its default solver; '
   'source commit %s' % (compiler, cgal, commit))
 p('- Harness: every task x {vertex, edge} x {uniform, cotangent} x {fixed, rotation, similarity, sr1 (S*R1), '
-  'principal, rsr (R2*S*R1)} of `Mesh_deformer` with hard constraints, and CGAL ORIGINAL_ARAP, SPOKES_AND_RIMS, '
-  'SRE_ARAP on the same ROI, handle and targets; %s iterations each (`deform(1, 0)` called %s times: '
+  'principal, rsr (R2*S*R1)} x {identity, rotation start} of `Mesh_deformer` with hard constraints, and CGAL '
+  'ORIGINAL_ARAP, SPOKES_AND_RIMS, SRE_ARAP on the same ROI, handle and targets; %s iterations each (`deform(1, 0)` called %s times: '
   'tolerance 0), each run in a forked child whose VmHWM is its peak memory. Metrics: '
   '`include/CGAL/Laplacian_deformation/metrics.h` (all: lower is better); the distortion field of the '
   'figures is `vertex_distortion_field()` (one-ring rigidity error).' % (iterations, iterations))
@@ -97,7 +102,7 @@ p('')
 figures = [t for t in tasks if os.path.exists(os.path.join(bench_dir, 'figures', t + '.png'))]
 if figures:
     p('## Figures\n')
-    p('Rest | vertex-based | edge-based (both cotangent, S*R1) | CGAL ORIGINAL_ARAP, coloured by the one-ring '
+    p('Rest | vertex-based | edge-based (both cotangent, S*R1, rotation start: the library\'s defaults) | CGAL ORIGINAL_ARAP, coloured by the one-ring '
       'rigidity error with one shared colour bar per task.\n')
     for t in figures:
         p('![%s](figures/%s.png)\n' % (t, t))
@@ -107,8 +112,8 @@ else:
 
 # summary of the default combinations
 p('## Summary (cotangent weights)\n')
-p('Per task: rotation and S*R1 transforms for both representations, and CGAL ARAP. Times in ms: '
-  'preprocess, one iteration.\n')
+p('Per task: rotation and S*R1 transforms for both representations (rotation start, the library\'s default), '
+  'and CGAL ARAP. Times in ms: preprocess, one iteration.\n')
 p('| task | method | prep | iter | peak MB | Lv | Le | edge mean / max | dihedral mean / max | normal mean / max | ARAP |')
 p('|---|---|---:|---:|---:|---:|---:|---|---|---|---:|')
 for t in tasks:
@@ -132,7 +137,7 @@ p('')
 
 # where the edge-based method loses
 p('## Where the edge-based method loses\n')
-p('Edge- vs vertex-based on the same task, weights and transform (%d tasks x 2 weights x 6 transforms). '
+p('Edge- vs vertex-based on the same task, weights and transform, both with the rotation start (%d tasks x 2 weights x 6 transforms). '
   'A loss is a strictly larger value of the metric (or time). Read Lv and Le with care: each method '
   'minimises its own Laplacian error (Lv favours the vertex-based, Le the edge-based method), and CGAL '
   'ARAP minimises the ARAP energy; the edge-length, dihedral and normal metrics favour no method.\n' % len(tasks))
@@ -172,7 +177,7 @@ for key, label in (('preprocess_s', 'preprocess'), ('iteration_s', 'one iteratio
           '- Edge-based / vertex-based memory growth ratio: median %.2f, range %.2f to %.2f.' % (
             r[len(r) // 2], r[0], r[-1]))
 p('')
-p('Edge-based (cotangent, S*R1) vs CGAL ORIGINAL_ARAP, per task: the metrics where the edge-based result is worse.\n')
+p('Edge-based (cotangent, S*R1, rotation start) vs CGAL ORIGINAL_ARAP, per task: the metrics where the edge-based result is worse.\n')
 p('| task | worse than CGAL ARAP on | better on |')
 p('|---|---|---|')
 for t in tasks:
@@ -182,6 +187,303 @@ for t in tasks:
         better = [label for key, label in METRICS if number(e, key) < number(c, key)]
         p('| %s | %s | %s |' % (t, ', '.join(worse) or '-', ', '.join(better) or '-'))
 p('')
+
+# large rotations (issue 15): task metrics, start, best edge-based vs CGAL, convergence
+TRANSFORMS = ('fixed', 'rotation', 'similarity', 'sr1', 'principal', 'rsr')
+TRANSFORM_LABEL = {'fixed': 'fixed', 'rotation': 'rotation', 'similarity': 'similarity', 'sr1': 'S*R1',
+                   'principal': 'principal', 'rsr': 'R2*S*R1'}
+CGAL_VARIANTS = ('ORIGINAL_ARAP', 'SPOKES_AND_RIMS', 'SRE_ARAP')
+TASK_METRICS = [('bend_arc_error', 'bend arc error (tube radii)'), ('bend_min_turn_deg', 'bend min turn (deg)'),
+                ('twist_mid_deg', 'mid twist (deg)'), ('twist_mid_radius_ratio', 'mid-ring radius ratio'),
+                ('volume_change', 'volume change')]
+
+
+def finite(x):
+    return x == x and abs(x) != float('inf')
+
+
+def badness(row, key):
+    """How far from ideal (lower is better) the value of `key` is in `row`."""
+    x = number(row, key)
+    if key == 'bend_min_turn_deg':
+        return -x                                  # the larger the smallest turn, the better (negative: an S)
+    if key == 'twist_mid_deg':
+        return abs(x - number(row, 'twist_ideal_deg'))
+    if key == 'twist_mid_radius_ratio':
+        return abs(x - 1)
+    if key == 'volume_change':
+        return abs(x)
+    return x
+
+
+def applies(task, key):
+    return any(r['task'] == task and r['status'] == 'ok' and r.get(key, '') != '' for r in rows)
+
+
+def config_name(r):
+    if r['method'] == 'cgal':
+        return 'CGAL ' + r['transform']
+    return '%s %s %s, %s start' % (r['representation'], r['weights'], TRANSFORM_LABEL[r['transform']], r['start'])
+
+
+has_start = rows and 'start' in rows[0]
+p('## Large rotations (issue 15): starts, bend and twist\n')
+if not has_start:
+    p('(results.csv has no start column: produced by an older harness)\n')
+else:
+    p('Task metrics (`benchmark/Laplacian_deformation/tasks/README.md`): bend arc error = largest distance of the '
+      'ring centroids from the ideal arc in tube radii (0 is ideal); bend min turn = smallest signed turn of the '
+      'centreline between successive rings in degrees (negative: an S; a uniform 90 degree bend over the 40 '
+      'segments of `cylinder_bend` turns by 2.25 at each ring); mid twist = mean twist of the mid slice in '
+      'degrees (ideal: half the handle\'s twist, 67.5); mid-ring radius ratio = mean distance of the mid slice\'s '
+      'vertices from their centroid, deformed / rest (1 is ideal); volume change = (V\' - V) / V of closed meshes. '
+      'All after %s iterations.\n' % iterations)
+    GEO = [('normal_deviation_mean_deg', 'normal mean'), ('normal_deviation_max_deg', 'normal max'),
+           ('dihedral_change_mean_deg', 'dihedral mean'), ('dihedral_change_max_deg', 'dihedral max'),
+           ('edge_length_mean', 'edge mean'), ('edge_length_max', 'edge max')]
+    p('### Best edge-based configuration vs CGAL\'s best variant\n')
+    p('Per task and metric, the best of the 24 edge-based configurations (2 weights x 6 transforms x 2 starts) '
+      'against the best of CGAL\'s three variants on that metric (each metric may pick another configuration); '
+      'on the twist tasks also the mid-ring radius (distance of the ratio from 1). A loss = the edge-based best is '
+      'strictly worse.\n')
+    p('| task | metric | best edge-based | value | best CGAL | value | edge-based |')
+    p('|---|---|---|---:|---|---:|---|')
+    losses = {}
+    for t in tasks:
+        metrics = list(GEO)
+        if applies(t, 'twist_mid_radius_ratio'):
+            metrics.append(('twist_mid_radius_ratio', 'mid-ring radius |ratio - 1|'))
+        edge = [r for r in rows if r['task'] == t and r['method'] == 'ours' and r['representation'] == 'edge' and r['status'] == 'ok']
+        cg = [r for r in rows if r['task'] == t and r['method'] == 'cgal' and r['status'] == 'ok']
+        for key, label in metrics:
+            e = [r for r in edge if finite(badness(r, key))]
+            c = [r for r in cg if finite(badness(r, key))]
+            if not e or not c:
+                p('| %s | %s | %s | | %s | | not measured |' % (t, label, 'none' if not e else '', 'none' if not c else ''))
+                continue
+            be, bc = min(e, key=lambda r: badness(r, key)), min(c, key=lambda r: badness(r, key))
+            ve, vc = badness(be, key), badness(bc, key)
+            verdict = '**loses**' if ve > vc else ('wins' if ve < vc else 'ties')
+            if ve > vc:
+                losses.setdefault(t, []).append('%s %s vs %s' % (label, g(ve), g(vc)))
+            p('| %s | %s | %s | %s | %s | %s | %s |' % (t, label, config_name(be), g(ve), bc['transform'], g(vc), verdict))
+    p('')
+    p('Losses of the best edge-based configuration against CGAL\'s best variant:\n')
+    for t in tasks:
+        p('- %s: %s.' % (t, '; '.join(losses.get(t, [])) or 'none'))
+    p('')
+
+    metric_tasks = [t for t in tasks if any(applies(t, k) for k, _ in TASK_METRICS[:4])]
+    if metric_tasks:
+        p('### Bend and twist metrics per policy and start (cotangent weights, %s iterations)\n' % iterations)
+    for t in metric_tasks:
+        keys = [(k, l) for k, l in TASK_METRICS if applies(t, k)]
+        p('`%s`:\n' % t)
+        p('| representation | transform | ' + ' | '.join('%s identity | %s rotation' % (l, l) for k, l in keys) + ' |')
+        p('|---|---|' + '---:|---:|' * len(keys))
+        for rep in ('vertex', 'edge'):
+            for x in TRANSFORMS:
+                cells = []
+                for k, l in keys:
+                    for st in ('identity', 'rotation'):
+                        r = find(t, 'ours', rep, 'cotangent', x, st)
+                        cells.append(g(number(r, k)) if r else 'failed')
+                p('| %s | %s | %s |' % (rep, TRANSFORM_LABEL[x], ' | '.join(cells)))
+        for v in CGAL_VARIANTS:
+            r = find(t, 'cgal', 'vertex', 'cotangent', v)
+            cells = []
+            for k, l in keys:
+                cells += [g(number(r, k)) if r else 'failed', '']
+            p('| CGAL | %s | %s |' % (v, ' | '.join(cells)))
+        p('')
+
+    p('### Rotation start vs identity start\n')
+    p('Per task and metric: is the rotation start (`ROTATION_START`, the library\'s default) no worse than the '
+      'identity start on every one of our 24 combinations (2 representations x 2 weights x 6 transforms; `fixed` '
+      'ignores the start)? Worse = strictly larger distance from the ideal (lower for the quality metrics, the '
+      'arc error, |twist - ideal|, |radius ratio - 1| and |volume change|; higher for the min turn), beyond a '
+      'relative 1e-9 for round-off. Listed with the identity -> rotation values (4 digits).\n')
+    ALL = METRICS + [(k, l) for k, l in TASK_METRICS]
+    for t in tasks:
+        parts_ok, parts_bad = [], []
+        for key, label in ALL:
+            if not applies(t, key):
+                continue
+            worse, compared = [], 0
+            for rep in ('vertex', 'edge'):
+                for w in ('uniform', 'cotangent'):
+                    for x in TRANSFORMS:
+                        a, b = find(t, 'ours', rep, w, x, 'identity'), find(t, 'ours', rep, w, x, 'rotation')
+                        if not a or not b:
+                            continue
+                        ba, bb = badness(a, key), badness(b, key)
+                        if not (finite(ba) and finite(bb)):
+                            continue
+                        compared += 1
+                        if bb > ba + 1e-9 * max(1.0, abs(ba)):
+                            worse.append('%s %s %s %.4g -> %.4g' % (rep, w, TRANSFORM_LABEL[x], number(a, key), number(b, key)))
+            if worse:
+                parts_bad.append('**%s** worse in %d of %d (%s)' % (label, len(worse), compared, '; '.join(worse)))
+            else:
+                parts_ok.append(label)
+        p('- %s: rotation start no worse on: %s%s.' % (t, ', '.join(parts_ok) or 'none',
+                                                         '; ' + '; '.join(parts_bad) if parts_bad else ''))
+    p('')
+
+# convergence figures
+conv_file = os.path.join(out, 'convergence.csv')
+conv = list(csv.DictReader(open(conv_file))) if os.path.exists(conv_file) else []
+COLOURS = {'fixed': '#8c564b', 'rotation': '#1f77b4', 'similarity': '#2ca02c', 'sr1': '#d62728',
+           'principal': '#9467bd', 'rsr': '#ff7f0e'}
+CGAL_COLOURS = {'ORIGINAL_ARAP': '#000000', 'SPOKES_AND_RIMS': '#666666', 'SRE_ARAP': '#aaaaaa'}
+
+
+def nice_ticks(lo, hi, n=5):
+    import math
+    if not (hi > lo):
+        hi = lo + 1
+    step = (hi - lo) / n
+    mag = 10 ** math.floor(math.log10(step))
+    step = min((m * mag for m in (1, 2, 2.5, 5, 10) if m * mag >= step), default=10 * mag)
+    first = math.ceil(lo / step) * step
+    ticks, x = [], first
+    while x <= hi + 1e-12 * step:
+        ticks.append(0.0 if abs(x) < 1e-12 * step else x)
+        x += step
+    return ticks
+
+
+def esc(text):
+    return text.replace('&', '&amp;').replace('<', '&lt;').replace('>', '&gt;')
+
+
+def convergence_svg(path, title, series, ideal, ylabel):
+    """series: {panel: [(label, colour, dash, [(iteration, value)])]}; two panels side by side."""
+    pw, ph, left, top, gap, legend = 360, 300, 60, 40, 50, 220
+    width, height = left + 2 * pw + gap + legend, top + ph + 50
+    values = [v for lines in series.values() for _, _, _, pts in lines for _, v in pts if finite(v)]
+    if ideal is not None:
+        values.append(ideal)
+    lo, hi = min(values), max(values)
+    pad = 0.05 * (hi - lo) if hi > lo else 1
+    lo, hi = lo - pad, hi + pad
+    iters = [i for lines in series.values() for _, _, _, pts in lines for i, _ in pts]
+    imax = max(iters) if iters else 1
+    o = ['<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" font-family="sans-serif" font-size="11">' % (width, height),
+         '<rect width="100%" height="100%" fill="white"/>',
+         '<text x="%d" y="18" font-size="14">%s</text>' % (left, esc(title))]
+    for k, (panel, lines) in enumerate(series.items()):
+        x0 = left + k * (pw + gap)
+
+        def X(i):
+            return x0 + (i - 1) / max(1, imax - 1) * pw
+
+        def Y(v):
+            return top + ph - (v - lo) / (hi - lo) * ph
+        o.append('<text x="%d" y="%d" font-size="12" text-anchor="middle">%s</text>' % (x0 + pw / 2, top - 6, esc(panel)))
+        o.append('<rect x="%d" y="%d" width="%d" height="%d" fill="none" stroke="#333"/>' % (x0, top, pw, ph))
+        for t in nice_ticks(lo, hi):
+            o.append('<line x1="%d" x2="%d" y1="%.1f" y2="%.1f" stroke="#ddd"/>' % (x0, x0 + pw, Y(t), Y(t)))
+            o.append('<text x="%d" y="%.1f" text-anchor="end">%s</text>' % (x0 - 4, Y(t) + 4, '%g' % t))
+        for t in nice_ticks(1, imax):
+            if t >= 1:
+                o.append('<text x="%.1f" y="%d" text-anchor="middle">%g</text>' % (X(t), top + ph + 14, t))
+        o.append('<text x="%d" y="%d" text-anchor="middle">iteration</text>' % (x0 + pw / 2, top + ph + 30))
+        if ideal is not None:
+            o.append('<line x1="%d" x2="%d" y1="%.1f" y2="%.1f" stroke="#2a2" stroke-width="1" stroke-dasharray="1,3"/>' % (
+                x0, x0 + pw, Y(ideal), Y(ideal)))
+        for label, colour, dash, pts in lines:
+            pts = [(i, v) for i, v in pts if finite(v)]
+            if pts:
+                o.append('<polyline fill="none" stroke="%s" stroke-width="1.6"%s points="%s"/>' % (
+                    colour, ' stroke-dasharray="%s"' % dash if dash else '',
+                    ' '.join('%.1f,%.1f' % (X(i), Y(v)) for i, v in pts)))
+    o.append('<text transform="translate(14,%d) rotate(-90)" text-anchor="middle">%s</text>' % (top + ph / 2, esc(ylabel)))
+    lx, ly = left + 2 * pw + gap + 10, top
+    entries = [(TRANSFORM_LABEL[x] + ', ' + st + ' start', COLOURS[x], '' if st == 'rotation' else '6,4')
+               for x in TRANSFORMS for st in ('rotation', 'identity')]
+    entries += [('CGAL ' + v, CGAL_COLOURS[v], '2,2') for v in CGAL_VARIANTS]
+    if ideal is not None:
+        entries.append(('ideal', '#2a2', '1,3'))
+    for n, (label, colour, dash) in enumerate(entries):
+        y = ly + 16 * n
+        o.append('<line x1="%d" x2="%d" y1="%d" y2="%d" stroke="%s" stroke-width="1.6"%s/>' % (
+            lx, lx + 28, y, y, colour, ' stroke-dasharray="%s"' % dash if dash else ''))
+        o.append('<text x="%d" y="%d">%s</text>' % (lx + 34, y + 4, esc(label)))
+    o.append('</svg>')
+    with open(path, 'w') as f:
+        f.write('\n'.join(o) + '\n')
+
+
+if conv:
+    fig_dir = os.path.join(bench_dir, 'figures')
+    os.makedirs(fig_dir, exist_ok=True)
+    p('## Convergence (issue 15)\n')
+    conv_tasks = []
+    for r in conv:
+        if r['task'] not in conv_tasks:
+            conv_tasks.append(r['task'])
+    n_iter = max(int(r['iteration']) for r in conv)
+    p('`compare_deformations --convergence %d` (called by run_harness.sh): the task metrics after every iteration '
+      '1..%d of every cotangent combination of ours (vertex and edge, every transform, both starts) and of CGAL\'s '
+      'three variants. One figure per task and metric: vertex-based (left) and edge-based (right) with CGAL\'s '
+      'variants drawn in both panels; solid = rotation start, dashed = identity start, dotted green = ideal.\n' % (n_iter, n_iter))
+
+    def conv_series(t, key):
+        out = {}
+        for r in conv:
+            if r['task'] != t or r['status'] != 'ok' or r.get(key, '') == '':
+                continue
+            name = (r['method'], r['representation'], r['transform'], r['start'])
+            out.setdefault(name, []).append((int(r['iteration']), float(r[key])))
+        return out
+
+    failed = [r for r in conv if r['status'] != 'ok']
+    for t in conv_tasks:
+        for key, label in TASK_METRICS:
+            data = conv_series(t, key)
+            if not data:
+                continue
+            panels = {}
+            for rep, title in (('vertex', 'vertex-based (cotangent)'), ('edge', 'edge-based (cotangent)')):
+                lines = [(x + st, COLOURS[x], '' if st == 'rotation' else '6,4', data.get(('ours', rep, x, st), []))
+                         for x in TRANSFORMS for st in ('rotation', 'identity')]
+                lines += [(v, CGAL_COLOURS[v], '2,2', data.get(('cgal', 'vertex', v, '-'), [])) for v in CGAL_VARIANTS]
+                panels[title] = lines
+            ideal = {'bend_arc_error': 0.0, 'twist_mid_radius_ratio': 1.0, 'volume_change': 0.0}.get(key)
+            if key == 'twist_mid_deg':
+                ideals = [number(r, 'twist_ideal_deg') for r in conv if r['task'] == t and r.get('twist_ideal_deg')]
+                ideal = ideals[0] if ideals else None
+            name = 'convergence_%s_%s.svg' % (t, key)
+            convergence_svg(os.path.join(fig_dir, name), '%s: %s' % (t, label), panels, ideal, label)
+            p('![%s: %s](figures/%s)\n' % (t, label, name))
+    if failed:
+        p('Failed convergence runs: %s.\n' % ', '.join('%s %s %s %s %s (iteration %s)' % (
+            r['task'], r['method'], r['representation'], r['transform'], r['start'], r['iteration']) for r in failed))
+
+    # drift between iteration 10 and the last
+    a_it = min(10, n_iter)
+    p('Drift: the change of each metric from iteration %d to iteration %d (value at %d -> change).\n' % (a_it, n_iter, a_it))
+    for t in conv_tasks:
+        keys = [(k, l) for k, l in TASK_METRICS if conv_series(t, k)]
+        series = {k: conv_series(t, k) for k, _ in keys}
+        p('`%s`:\n' % t)
+        p('| configuration | ' + ' | '.join(l for _, l in keys) + ' |')
+        p('|---|' + '---|' * len(keys))
+        names = [('ours', rep, x, st) for rep in ('vertex', 'edge') for x in TRANSFORMS for st in ('identity', 'rotation')]
+        names += [('cgal', 'vertex', v, '-') for v in CGAL_VARIANTS]
+        for name in names:
+            cells = []
+            for k, _ in keys:
+                d = dict(series[k].get(name, []))
+                if a_it in d and n_iter in d:
+                    cells.append('%s -> %+.3g' % (g(d[a_it]), d[n_iter] - d[a_it]))
+                else:
+                    cells.append('-')
+            label = 'CGAL ' + name[2] if name[0] == 'cgal' else '%s %s, %s start' % (name[1], TRANSFORM_LABEL[name[2]], name[3])
+            p('| %s | %s |' % (label, ' | '.join(cells)))
+        p('')
+
 
 # micro-benchmarks
 bench = os.path.join(out, 'bench.json')

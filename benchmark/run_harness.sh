@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Regenerates benchmark/RESULTS.md: builds the comparison harness and the micro-benchmarks in
 # Release, runs every task of benchmark/Laplacian_deformation/tasks/ (all representation x weights x
-# transform combinations and CGAL's Surface_mesh_deformation, 10 iterations, tolerance 0), runs the
-# micro-benchmarks (each case in its own process, for its peak memory), renders the figures when the renderer is there, and writes RESULTS.md.
+# transform combinations, each with the identity and the rotation start, and CGAL's
+# Surface_mesh_deformation, 10 iterations, tolerance 0), the convergence runs (50 iterations of
+# cylinder_bend, cylinder_twist and bar_twist), the micro-benchmarks (each case in its own process,
+# for its peak memory), renders the figures when the renderer is there, and writes RESULTS.md (with
+# the convergence figures benchmark/figures/convergence_*.svg).
 #   usage: bash benchmark/run_harness.sh [OUT]      (OUT default: build/harness_output)
 #   env:   BUILD_DIR (default build), LEVELS (micro-benchmark armadillo levels, default 0,1;
 #          0,1,2 adds the 416k-vertex Loop subdivision, slow), ITERATIONS (default 10)
@@ -22,6 +25,13 @@ echo "before: $(date -u '+%F %T UTC') $(cat /proc/loadavg)" > "$out/load.txt"
 echo "== harness: $out"
 "$build/benchmark/Laplacian_deformation/compare_deformations" --iterations "$iterations" "$out" \
     "$here"/benchmark/Laplacian_deformation/tasks/*.task 2> "$out/harness.log"
+# Convergence (issue 15): the bend / twist metrics after every iteration 1..50 of the cotangent
+# combinations (both starts) and CGAL's three variants, into $out/convergence.csv.
+echo "convergence: $(date -u '+%F %T UTC') $(cat /proc/loadavg)" >> "$out/load.txt"
+echo "== convergence (50 iterations): cylinder_bend, cylinder_twist, bar_twist"
+tasks="$here/benchmark/Laplacian_deformation/tasks"
+"$build/benchmark/Laplacian_deformation/compare_deformations" --convergence 50 "$out" \
+    "$tasks/cylinder_bend.task" "$tasks/cylinder_twist.task" "$tasks/bar_twist.task" 2> "$out/convergence.log"
 # Micro-benchmarks: every case in its own process (its peak memory is then its own), merged into bench.json.
 echo "micro-benchmarks: $(date -u '+%F %T UTC') $(cat /proc/loadavg)" >> "$out/load.txt"
 echo "== micro-benchmarks (levels $levels), one process per case"

@@ -1,5 +1,6 @@
-# ctest: the harness runs one tiny generated task with 1 iteration and writes the CSV, the
-# Markdown table, the four PLY panels and task.json. Usage: cmake -DHARNESS=... -DTASK=... -DOUT=... -P
+# ctest: the harness runs one tiny generated task with 1 iteration and writes the CSV (with the
+# start and task-metric columns), the Markdown table, the four PLY panels and task.json; its
+# convergence mode writes convergence.csv. Usage: cmake -DHARNESS=... -DTASK=... -DOUT=... -P
 file(REMOVE_RECURSE "${OUT}")
 execute_process(COMMAND "${HARNESS}" --iterations 1 "${OUT}" "${TASK}" RESULT_VARIABLE rc
                 OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -8,8 +9,33 @@ if(NOT rc EQUAL 0)
 endif()
 file(STRINGS "${OUT}/results.csv" rows)
 list(LENGTH rows n)
-if(NOT n EQUAL 28)   # header + 2 x 2 x 6 of ours + 3 of CGAL
-  message(FATAL_ERROR "results.csv has ${n} lines, expected 28")
+if(NOT n EQUAL 52)   # header + 2 representations x 2 weights x 6 transforms x 2 starts of ours + 3 of CGAL
+  message(FATAL_ERROR "results.csv has ${n} lines, expected 52")
+endif()
+list(GET rows 0 header)
+if(NOT header MATCHES ",transform,start,status," OR NOT header MATCHES
+   ",constraint_residual,bend_arc_error,bend_min_turn_deg,twist_mid_deg,twist_ideal_deg,twist_mid_radius_ratio,volume_change$")
+  message(FATAL_ERROR "results.csv lacks the start or task-metric columns: ${header}")
+endif()
+# ours: both starts; CGAL: start "-"; the tiny bar is closed and has a twist measure, no bend measure
+list(FILTER rows EXCLUDE REGEX "^task,")
+set(identity 0)
+set(rotation 0)
+set(cgal 0)
+foreach(row IN LISTS rows)
+  if(row MATCHES ",ours,[a-z]+,[a-z]+,[a-z0-9]+,identity,")
+    math(EXPR identity "${identity} + 1")
+  elseif(row MATCHES ",ours,[a-z]+,[a-z]+,[a-z0-9]+,rotation,")
+    math(EXPR rotation "${rotation} + 1")
+  elseif(row MATCHES ",cgal,vertex,cotangent,[A-Z_]+,-,")
+    math(EXPR cgal "${cgal} + 1")
+  endif()
+  if(NOT row MATCHES ",,,-?[0-9][^,]*,15,[0-9][^,]*,-?[0-9][^,]*$")
+    message(FATAL_ERROR "expected empty bend cells, then twist angle, ideal 15, radius ratio, volume change: ${row}")
+  endif()
+endforeach()
+if(NOT identity EQUAL 24 OR NOT rotation EQUAL 24 OR NOT cgal EQUAL 3)
+  message(FATAL_ERROR "expected 24 identity-start, 24 rotation-start and 3 CGAL rows, got ${identity}, ${rotation}, ${cgal}")
 endif()
 foreach(row IN LISTS rows)
   if(row MATCHES ",failed,")
@@ -28,4 +54,23 @@ endif()
 file(READ "${OUT}/tiny_bar/task.json" json)
 if(NOT json MATCHES "\"panels\": \\[\"rest\", \"vertex\", \"edge\", \"cgal_arap\"\\]")
   message(FATAL_ERROR "task.json lacks the panels: ${json}")
+endif()
+# the convergence mode: header + (2 x 6 x 2 cotangent combinations + 3 of CGAL) x 2 iterations
+execute_process(COMMAND "${HARNESS}" --convergence 2 "${OUT}/convergence" "${TASK}" RESULT_VARIABLE rc
+                OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "the convergence mode failed (${rc}):\n${out}\n${err}")
+endif()
+file(STRINGS "${OUT}/convergence/convergence.csv" rows)
+list(LENGTH rows n)
+if(NOT n EQUAL 55)
+  message(FATAL_ERROR "convergence.csv has ${n} lines, expected 55")
+endif()
+foreach(row IN LISTS rows)
+  if(row MATCHES ",failed,")
+    message(FATAL_ERROR "a convergence run failed: ${row}")
+  endif()
+endforeach()
+if(EXISTS "${OUT}/convergence/results.csv")
+  message(FATAL_ERROR "the convergence mode wrote results.csv")
 endif()

@@ -1,11 +1,19 @@
 // compare_deformations: the comparison harness. Runs every task with every representation x
-// weights x transform combination of Mesh_deformer and, in the same process on the same task
-// (ROI, handle, targets), CGAL's Surface_mesh_deformation (ORIGINAL_ARAP, SPOKES_AND_RIMS,
-// SRE_ARAP), all with the same number of iterations and tolerance 0; measures the quality
-// metrics of metrics.h and the timings; writes OUT/results.csv, OUT/results.md and, per task,
-// OUT/<task>/{rest,vertex,edge,cgal_arap}.ply (with a per-vertex `distortion`) and task.json.
+// weights x transform combination of Mesh_deformer, each with both starts (IDENTITY_START and
+// ROTATION_START, a run-time choice: Mesh_deformer::set_start()), and, on the same task (ROI,
+// handle, targets), CGAL's Surface_mesh_deformation (ORIGINAL_ARAP, SPOKES_AND_RIMS, SRE_ARAP),
+// all with the same number of iterations and tolerance 0; measures the quality metrics of
+// metrics.h, the task metrics of deformation_task.h (bend, twist, volume change) and the timings;
+// writes OUT/results.csv, OUT/results.md and, per task, OUT/<task>/{rest,vertex,edge,cgal_arap}.ply
+// (with a per-vertex `distortion`; vertex and edge: cotangent weights, S*R1, rotation start, the
+// library's defaults) and task.json.
 //
 //   compare_deformations [--iterations N] [--data DIR] OUT TASK_FILE...
+//   compare_deformations --convergence N [--data DIR] OUT TASK_FILE...
+//
+// --convergence N: instead, runs N iterations of every cotangent combination of ours (vertex and
+// edge x every transform x both starts) and CGAL's three variants, and writes the task metrics
+// after every iteration 1..N into OUT/convergence.csv (results.csv is not touched).
 //
 // Each run is executed in a forked child process so that its peak memory can be measured: the
 // child reports VmHWM (the resident-set high-water mark of /proc/self/status) at the end of the
@@ -52,12 +60,16 @@ struct Record
   double iteration_seconds = 0, local_step_seconds = 0, right_hand_side_seconds = 0, solve_seconds = 0;  // per iteration
   double peak_rss_mb = 0, extra_rss_mb = 0;
   LD::Deformation_quality quality;
+  Task_metrics metrics;
 };
+
+// called after every iteration with its number (from 1) and the deformed mesh
+typedef std::function<void(unsigned, const Mesh&)> Step;
 
 struct Method
 {
-  std::string method, representation, weights, transform, panel;   // panel: PLY name of a default combination
-  std::function<bool(const Task&, unsigned, Mesh&, Record&)> run;
+  std::string method, representation, weights, transform, start, panel;   // panel: PLY name of a default combination
+  std::function<bool(const Task&, unsigned, Mesh&, Record&, const Step&)> run;
 };
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
@@ -65,10 +77,11 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 void set_message(Record& r, const std::string& m) { std::snprintf(r.message, sizeof(r.message), "%s", m.c_str()); }
 
 template <class Representation, class Weights, class Transform>
-bool run_ours(const Task& task, unsigned iterations, Mesh& m, Record& r)
+bool run_ours(const Task& task, unsigned iterations, LD::Deformation_start start, Mesh& m, Record& r, const Step& step)
 {
   m = task.mesh;
   LD::Mesh_deformer<Mesh, Representation, Weights, Transform> d(m);
+  d.set_start(start);
   d.insert_roi_vertices(task.roi.begin(), task.roi.end());
   d.insert_control_vertices(task.handle.begin(), task.handle.end());
   const Clock::time_point t0 = Clock::now();
@@ -87,12 +100,14 @@ bool run_ours(const Task& task, unsigned iterations, Mesh& m, Record& r)
     r.right_hand_side_seconds += result.right_hand_side_seconds;
     r.solve_seconds += result.solve_seconds;
     ++r.iterations;
+    if(step)
+      step(r.iterations, m);
   }
   return true;
 }
 
 template <CGAL::Deformation_algorithm_tag Tag>
-bool run_cgal(const Task& task, unsigned iterations, Mesh& m, Record& r)
+bool run_cgal(const Task& task, unsigned iterations, Mesh& m, Record& r, const Step& step)
 {
   m = task.mesh;
   CGAL::Surface_mesh_deformation<Mesh, CGAL::Default, CGAL::Default, Tag> d(m);
@@ -111,20 +126,42 @@ bool run_cgal(const Task& task, unsigned iterations, Mesh& m, Record& r)
     d.deform(1, 0.);
     r.iteration_seconds += seconds_since(t1);
     ++r.iterations;
+    if(step)
+      step(r.iterations, m);
   }
   return true;
+}
+
+// one combination with both starts (the start is captured at run time: one instantiation per combination);
+// `panel` names the PLY of the rotation start (the library's default start), if any
+template <class Representation, class Weights, class Transform>
+void add_starts(std::vector<Method>& methods, const std::string& representation, const std::string& weights,
+                const std::string& transform, const std::string& panel)
+{
+  const std::pair<LD::Deformation_start, const char*> starts[] = {{LD::IDENTITY_START, "identity"},
+                                                                  {LD::ROTATION_START, "rotation"}};
+  for(const auto& s : starts)
+  {
+    const LD::Deformation_start start = s.first;
+    methods.push_back({"ours", representation, weights, transform, s.second,
+                       start == LD::ROTATION_START ? panel : std::string(),
+                       [start](const Task& task, unsigned iterations, Mesh& m, Record& r, const Step& step) {
+                         return run_ours<Representation, Weights, Transform>(task, iterations, start, m, r, step);
+                       }});
+  }
 }
 
 template <class Representation, class Weights>
 void add_transforms(std::vector<Method>& methods, const std::string& representation, const std::string& weights)
 {
+  // the panels: cotangent weights, S*R1, rotation start (the library's defaults)
   const std::string panel = weights == "cotangent" ? representation : std::string();
-  methods.push_back({"ours", representation, weights, "fixed", "", run_ours<Representation, Weights, LD::Fixed_transform>});
-  methods.push_back({"ours", representation, weights, "rotation", "", run_ours<Representation, Weights, LD::Rotation_transform>});
-  methods.push_back({"ours", representation, weights, "similarity", "", run_ours<Representation, Weights, LD::Similarity_transform>});
-  methods.push_back({"ours", representation, weights, "sr1", panel, run_ours<Representation, Weights, LD::Scaled_rotation_transform>});
-  methods.push_back({"ours", representation, weights, "principal", "", run_ours<Representation, Weights, LD::Principal_scaled_rotation_transform>});
-  methods.push_back({"ours", representation, weights, "rsr", "", run_ours<Representation, Weights, LD::Rotation_scale_rotation_transform>});
+  add_starts<Representation, Weights, LD::Fixed_transform>(methods, representation, weights, "fixed", "");
+  add_starts<Representation, Weights, LD::Rotation_transform>(methods, representation, weights, "rotation", "");
+  add_starts<Representation, Weights, LD::Similarity_transform>(methods, representation, weights, "similarity", "");
+  add_starts<Representation, Weights, LD::Scaled_rotation_transform>(methods, representation, weights, "sr1", panel);
+  add_starts<Representation, Weights, LD::Principal_scaled_rotation_transform>(methods, representation, weights, "principal", "");
+  add_starts<Representation, Weights, LD::Rotation_scale_rotation_transform>(methods, representation, weights, "rsr", "");
 }
 
 std::vector<Method> all_methods()
@@ -134,9 +171,9 @@ std::vector<Method> all_methods()
   add_transforms<LD::Vertex_based_representation, LD::Cotangent_weights>(methods, "vertex", "cotangent");
   add_transforms<LD::Edge_based_representation, LD::Uniform_weights>(methods, "edge", "uniform");
   add_transforms<LD::Edge_based_representation, LD::Cotangent_weights>(methods, "edge", "cotangent");
-  methods.push_back({"cgal", "vertex", "cotangent", "ORIGINAL_ARAP", "cgal_arap", run_cgal<CGAL::ORIGINAL_ARAP>});
-  methods.push_back({"cgal", "vertex", "cotangent", "SPOKES_AND_RIMS", "", run_cgal<CGAL::SPOKES_AND_RIMS>});
-  methods.push_back({"cgal", "vertex", "cotangent", "SRE_ARAP", "", run_cgal<CGAL::SRE_ARAP>});
+  methods.push_back({"cgal", "vertex", "cotangent", "ORIGINAL_ARAP", "", "cgal_arap", run_cgal<CGAL::ORIGINAL_ARAP>});
+  methods.push_back({"cgal", "vertex", "cotangent", "SPOKES_AND_RIMS", "", "", run_cgal<CGAL::SPOKES_AND_RIMS>});
+  methods.push_back({"cgal", "vertex", "cotangent", "SRE_ARAP", "", "", run_cgal<CGAL::SRE_ARAP>});
   return methods;
 }
 
@@ -187,7 +224,7 @@ Record run_in_child(const Method& method, const Task& task, unsigned iterations,
     Record c;
     const double baseline = status_megabytes("VmRSS:");
     Mesh m;
-    c.ok = method.run(task, iterations, m, c) ? 1 : 0;
+    c.ok = method.run(task, iterations, m, c, Step()) ? 1 : 0;
     c.peak_rss_mb = status_megabytes("VmHWM:");
     c.extra_rss_mb = c.peak_rss_mb - baseline;
     if(c.ok)
@@ -197,6 +234,7 @@ Record run_in_child(const Method& method, const Task& task, unsigned iterations,
       for(std::size_t i = 0; i < task.handle.size(); ++i)
         controls.emplace_back(task.handle[i], task.targets[i]);
       c.quality.max_constraint_residual = LD::constraint_residual(m, get(CGAL::vertex_point, task.mesh), controls);
+      c.metrics = task_metrics(task, m);
       if(c.iterations)
       {
         c.iteration_seconds /= c.iterations;
@@ -273,13 +311,69 @@ std::string general(double x)
   return s.str();
 }
 
+// a CSV cell: empty for NaN (a metric that does not apply)
+std::string cell(double x)
+{
+  if(x != x)
+    return std::string();
+  std::ostringstream s;
+  s << std::setprecision(6) << x;
+  return s.str();
+}
+
+const char* const task_metric_columns =
+    "bend_arc_error,bend_min_turn_deg,twist_mid_deg,twist_ideal_deg,twist_mid_radius_ratio,volume_change";
+
+std::string task_metric_cells(const Task_metrics& t)
+{
+  return cell(t.bend_arc_error) + ',' + cell(t.bend_min_turn_deg) + ',' + cell(t.twist_mid_deg) + ',' +
+         cell(t.twist_ideal_deg) + ',' + cell(t.twist_mid_radius_ratio) + ',' + cell(t.volume_change);
+}
+
+// --convergence: the task metrics after every iteration of the cotangent combinations and CGAL's
+int run_convergence(unsigned iterations, const fs::path& out_dir, const std::vector<Task>& tasks)
+{
+  std::ofstream csv(out_dir / "convergence.csv");
+  csv << "task,method,representation,weights,transform,start,iteration,status," << task_metric_columns << '\n';
+  for(const Task& task : tasks)
+    for(const Method& method : all_methods())
+    {
+      if(method.method == "ours" && method.weights != "cotangent")
+        continue;
+      std::cerr << task.name << " (convergence): " << method.method << " " << method.representation << " "
+                << method.transform << " " << method.start << std::endl;
+      const std::string prefix = task.name + ',' + method.method + ',' + method.representation + ',' + method.weights +
+                                 ',' + method.transform + ',' + (method.method == "ours" ? method.start : "-") + ',';
+      Mesh m;
+      Record r;
+      const bool ok = method.run(task, iterations, m, r, [&](unsigned it, const Mesh& deformed) {
+        csv << prefix << it << ",ok," << task_metric_cells(task_metrics(task, deformed)) << '\n';
+      });
+      if(!ok)
+      {
+        csv << prefix << r.iterations + 1 << ",failed," << task_metric_cells(Task_metrics()) << '\n';
+        std::cerr << "  failed: " << r.message << std::endl;
+      }
+    }
+  csv.close();
+  if(!csv)
+    return std::cerr << "error: cannot write " << (out_dir / "convergence.csv").string() << std::endl, EXIT_FAILURE;
+  std::cout << "wrote " << (out_dir / "convergence.csv").string() << std::endl;
+  return EXIT_SUCCESS;
+}
+
 int usage(std::ostream& out, int code)
 {
   out << "usage: compare_deformations [--iterations N] [--data DIR] OUT TASK_FILE...\n"
+         "       compare_deformations --convergence N [--data DIR] OUT TASK_FILE...\n"
          "  Runs every task (benchmark/Laplacian_deformation/tasks/*.task) with every representation x\n"
-         "  weights x transform of Mesh_deformer and CGAL's Surface_mesh_deformation (ORIGINAL_ARAP,\n"
-         "  SPOKES_AND_RIMS, SRE_ARAP), N iterations each (default 10) with tolerance 0, and writes\n"
-         "  OUT/results.csv, OUT/results.md and OUT/<task>/{rest,vertex,edge,cgal_arap}.ply + task.json.\n"
+         "  weights x transform of Mesh_deformer, each with the identity and the rotation start, and CGAL's\n"
+         "  Surface_mesh_deformation (ORIGINAL_ARAP, SPOKES_AND_RIMS, SRE_ARAP), N iterations each (default\n"
+         "  10) with tolerance 0, and writes OUT/results.csv, OUT/results.md and\n"
+         "  OUT/<task>/{rest,vertex,edge,cgal_arap}.ply + task.json.\n"
+         "  --convergence N: the task metrics (bend, twist, volume change) after every iteration 1..N of\n"
+         "  every cotangent combination of ours with both starts and of CGAL's three variants, into\n"
+         "  OUT/convergence.csv (nothing else is written).\n"
          "  DIR: the folder of the real meshes (default: the one configured at build time).\n";
   return code;
 }
@@ -288,7 +382,7 @@ int usage(std::ostream& out, int code)
 
 int main(int argc, char** argv)
 {
-  unsigned iterations = 10;
+  unsigned iterations = 10, convergence = 0;
   std::string data_dir = LAPLACIAN_DEFORMATION_DATA_DIR;
   std::vector<std::string> positional;
   for(int i = 1; i < argc; ++i)
@@ -302,6 +396,13 @@ int main(int argc, char** argv)
       if(n <= 0)
         return std::cerr << "error: --iterations needs a positive number\n", EXIT_FAILURE;
       iterations = unsigned(n);
+    }
+    else if(a == "--convergence" && i + 1 < argc)
+    {
+      const int n = std::atoi(argv[++i]);
+      if(n <= 0)
+        return std::cerr << "error: --convergence needs a positive number\n", EXIT_FAILURE;
+      convergence = unsigned(n);
     }
     else if(a == "--data" && i + 1 < argc)
       data_dir = argv[++i];
@@ -326,18 +427,21 @@ int main(int argc, char** argv)
   fs::create_directories(out_dir, ec);
   if(ec)
     return std::cerr << "error: cannot create " << out_dir << ": " << ec.message() << std::endl, EXIT_FAILURE;
+  if(convergence)
+    return run_convergence(convergence, out_dir, tasks);
 
   const std::vector<Method> methods = all_methods();
   std::ofstream csv(out_dir / "results.csv");
   std::ofstream md(out_dir / "results.md");
-  csv << "task,vertices,roi,handle,method,representation,weights,transform,status,iterations,"
+  csv << "task,vertices,roi,handle,method,representation,weights,transform,start,status,iterations,"
          "preprocess_s,iteration_s,local_step_s,right_hand_side_s,solve_s,peak_rss_mb,extra_rss_mb,"
          "vertex_laplacian_error,edge_laplacian_error,edge_length_mean,edge_length_max,"
          "dihedral_change_mean_deg,dihedral_change_max_deg,normal_deviation_mean_deg,normal_deviation_max_deg,"
-         "arap_energy,constraint_residual\n";
+         "arap_energy,constraint_residual," << task_metric_columns << "\n";
   csv << std::setprecision(6);
   md << "# Deformation comparison\n\n"
-     << "Every task with every representation x weights x transform of `Mesh_deformer` (hard constraints) and "
+     << "Every task with every representation x weights x transform of `Mesh_deformer` (hard constraints), each "
+        "with the identity and the rotation start (`set_start()`; `fixed` keeps T = I and ignores it), and "
         "CGAL's `Surface_mesh_deformation` (ORIGINAL_ARAP, SPOKES_AND_RIMS, SRE_ARAP; its default solver), "
      << iterations << " iterations each with tolerance 0 (our `deform(1, 0)` / CGAL's `deform(1, 0)` called "
      << iterations << " times), each run in its own forked process.\n\n"
@@ -346,7 +450,11 @@ int main(int argc, char** argv)
         "growth during the run; Lv, Le = relative vertex- and edge-based Laplacian-coordinate errors; edge = "
         "edge-length distortion mean / max; dihedral = dihedral-angle change mean / max (degrees); normal = "
         "face-normal deviation after each 1-ring's best rotation mean / max (degrees); ARAP = normalised "
-        "cotangent ARAP energy; res = constraint residual / bounding-box diagonal (see metrics.h).\n";
+        "cotangent ARAP energy; res = constraint residual / bounding-box diagonal (see metrics.h); task metrics "
+        "(deformation_task.h), where they apply: arc err = largest distance of the ring centroids from the ideal "
+        "arc (tube radii), min turn = smallest signed turn of the centreline (degrees, negative: an S), twist = "
+        "mid-slice twist angle (degrees; ideal in the heading), r ratio = mid-slice radius deformed / rest, "
+        "dV = relative volume change (closed meshes).\n";
 
   for(const Task& task : tasks)
   {
@@ -359,20 +467,24 @@ int main(int argc, char** argv)
       json << "{\"task\": " << json_string(task.name) << ", \"title\": " << json_string(task.title)
            << ", \"field\": \"one_ring_rigidity_error\", \"panels\": [\"rest\", \"vertex\", \"edge\", \"cgal_arap\"]}\n";
     }
+    const bool bend = task.bend_axis >= 0, twist = task.twist_axis >= 0, closed = CGAL::is_closed(task.mesh);
     md << "\n## " << task.title << " (`" << task.name << "`)\n\n"
        << "Mesh `" << task.mesh_description << "`: " << num_vertices(task.mesh) << " vertices, ROI "
-       << task.roi.size() << " vertices, handle " << task.handle.size() << " vertices.\n\n"
-       << "| method | weights | transform | prep ms | iter ms (local / rhs / solve) | peak MB | Lv | Le | edge | dihedral | normal | ARAP | res |\n"
-       << "|---|---|---|---:|---|---:|---:|---:|---|---|---|---:|---:|\n";
+       << task.roi.size() << " vertices, handle " << task.handle.size() << " vertices"
+       << (twist ? "; ideal mid-slice twist " + fixed(task.twist_ideal, 1) + " degrees" : std::string()) << ".\n\n"
+       << "| method | weights | transform | start | prep ms | iter ms (local / rhs / solve) | peak MB | Lv | Le | edge | dihedral | normal | ARAP | res |"
+       << (bend ? " arc err | min turn |" : "") << (twist ? " twist | r ratio |" : "") << (closed ? " dV |" : "") << "\n"
+       << "|---|---|---|---|---:|---|---:|---:|---:|---|---|---|---:|---:|" << (bend ? "---:|---:|" : "")
+       << (twist ? "---:|---:|" : "") << (closed ? "---:|" : "") << "\n";
     for(const Method& method : methods)
     {
       std::cerr << task.name << ": " << method.method << " " << method.representation << " " << method.weights << " "
-                << method.transform << std::endl;
+                << method.transform << " " << method.start << std::endl;
       const Record r = run_in_child(method, task, iterations, task_dir);
       const LD::Deformation_quality& q = r.quality;
       csv << task.name << ',' << num_vertices(task.mesh) << ',' << task.roi.size() << ',' << task.handle.size() << ','
           << method.method << ',' << method.representation << ',' << method.weights << ',' << method.transform << ','
-          << (r.ok ? "ok" : "failed") << ',' << r.iterations << ',' << r.preprocess_seconds << ',' << r.iteration_seconds
+          << (method.method == "ours" ? method.start : "-") << ',' << (r.ok ? "ok" : "failed") << ',' << r.iterations << ',' << r.preprocess_seconds << ',' << r.iteration_seconds
           << ',';
       if(method.method == "ours")
         csv << r.local_step_seconds << ',' << r.right_hand_side_seconds << ',' << r.solve_seconds << ',';
@@ -381,13 +493,15 @@ int main(int argc, char** argv)
       csv << r.peak_rss_mb << ',' << r.extra_rss_mb << ',' << q.vertex_laplacian_error << ',' << q.edge_laplacian_error
           << ',' << q.mean_edge_length_distortion << ',' << q.max_edge_length_distortion << ','
           << q.mean_dihedral_angle_change << ',' << q.max_dihedral_angle_change << ',' << q.mean_normal_deviation << ','
-          << q.max_normal_deviation << ',' << q.arap_energy << ',' << q.max_constraint_residual << '\n';
+          << q.max_normal_deviation << ',' << q.arap_energy << ',' << q.max_constraint_residual << ','
+          << task_metric_cells(r.ok ? r.metrics : Task_metrics()) << '\n';
       const std::string name = method.method == "cgal" ? "CGAL" : method.representation;
       md << "| " << name << " | " << (method.method == "cgal" ? "cotangent" : method.weights) << " | "
-         << method.transform << " | ";
+         << method.transform << " | " << (method.method == "ours" ? method.start : "-") << " | ";
       if(!r.ok)
       {
-        md << "failed: " << r.message << " | | | | | | | | | |\n";
+        md << "failed: " << r.message << " | | | | | | | | | |" << (bend ? " | |" : "") << (twist ? " | |" : "")
+           << (closed ? " |" : "") << "\n";
         std::cerr << "  failed: " << r.message << std::endl;
         continue;
       }
@@ -400,7 +514,15 @@ int main(int argc, char** argv)
          << general(q.mean_edge_length_distortion) << " / " << general(q.max_edge_length_distortion) << " | "
          << fixed(q.mean_dihedral_angle_change, 2) << " / " << fixed(q.max_dihedral_angle_change, 1) << " | "
          << fixed(q.mean_normal_deviation, 2) << " / " << fixed(q.max_normal_deviation, 1) << " | "
-         << general(q.arap_energy) << " | " << general(q.max_constraint_residual) << " |\n";
+         << general(q.arap_energy) << " | " << general(q.max_constraint_residual) << " |";
+      const Task_metrics& t = r.metrics;
+      if(bend)
+        md << ' ' << fixed(t.bend_arc_error, 3) << " | " << fixed(t.bend_min_turn_deg, 2) << " |";
+      if(twist)
+        md << ' ' << fixed(t.twist_mid_deg, 2) << " | " << fixed(t.twist_mid_radius_ratio, 3) << " |";
+      if(closed)
+        md << ' ' << general(t.volume_change) << " |";
+      md << "\n";
     }
   }
   csv.close();
