@@ -53,7 +53,7 @@ TEST(LaplacianDeformCli, ParsesEveryOption)
   std::string error;
   ASSERT_TRUE(parse({"m.off", "--handle", "3,5-7", "--handle=9", "--roi-rings", "4", "--translate", "1,-2,3e-1",
                      "--rotate", "0,0,1,90,1,2,3", "--representation", "vertex", "--weights=uniform",
-                     "--transform", "similarity", "--start", "identity", "--iterations", "7", "--tolerance", "1e-5", "--soft", "10",
+                     "--transform", "similarity", "--start", "identity", "--rigidity", "0.3", "--iterations", "7", "--tolerance", "1e-5", "--soft", "10",
                      "--solver", "cholmod", "--threads", "2", "-o", "out.obj", "--report", "r.json", "--force",
                      "--triangulate", "--progress", "never", "--quiet"}, o, error)) << error;
   EXPECT_EQ(o.mesh, "m.off");
@@ -64,6 +64,7 @@ TEST(LaplacianDeformCli, ParsesEveryOption)
   EXPECT_TRUE(o.has_rotate && o.has_center);
   EXPECT_EQ(o.angle_degrees, 90.);
   EXPECT_EQ(o.start, "identity");
+  EXPECT_EQ(o.rigidity, 0.3);
   EXPECT_EQ(o.center[1], 2.);
   EXPECT_EQ(o.representation, "vertex");
   EXPECT_EQ(o.weights, "uniform");
@@ -101,8 +102,10 @@ TEST(LaplacianDeformCli, RejectsBadCommandLines)
   EXPECT_EQ(parse_error({"m.off", "--tolerance", "-1"}), "option --tolerance: expected a non-negative number, got '-1'");
   EXPECT_EQ(parse_error({"m.off", "--soft", "nan"}), "option --soft: expected a positive number, got 'nan'");
   EXPECT_EQ(parse_error({"--start", "harmonic"}), "option --start: expected rotation or identity, got 'harmonic'");
+  EXPECT_EQ(parse_error({"--rigidity", "-1"}), "option --rigidity: expected a non-negative finite number, got '-1'");
+  EXPECT_EQ(parse_error({"--rigidity", "inf"}), "option --rigidity: expected a non-negative finite number, got 'inf'");
   EXPECT_EQ(parse_error({"--transform", "arap"}),
-            "option --transform: expected sr1, fixed, rotation, similarity, principal or rsr, got 'arap'");
+            "option --transform: expected sr1, fixed, rotation, similarity, principal, rsr or anchored, got 'arap'");
   EXPECT_EQ(parse_error({"m.off", "--handle", "1", "--roi-rings", "2", "--translate", "1,2"}),
             "option --translate: expected three numbers X,Y,Z, got '1,2'");
   EXPECT_EQ(parse_error({"m.off", "--handle", "4-2", "--roi-rings", "1"}),
@@ -393,6 +396,18 @@ TEST_F(LaplacianDeformTool, CommandLineSelectionAndPolicies)
   EXPECT_TRUE(soft.out.empty());
   EXPECT_TRUE(fs::exists(dir / "quads_deformed.off"));
   EXPECT_EQ(read_file(dir / "quads.off"), before);
+
+  // the anchored S*R1 with rigidity rows, both named in the report
+  const Tool_result anchored = run({"quads.off", "--triangulate", "--handle", "12", "--roi-rings", "2", "--rotate",
+                                    "1,0,0,40", "--transform", "anchored", "--rigidity", "0.3", "-o", "anchored.off",
+                                    "--report", "a.json"});
+  ASSERT_EQ(anchored.code, 0) << anchored.err;
+  EXPECT_NE(anchored.out.find("anchored S*R1 transforms, rotation start, rigidity rows (weight 0.3)"), std::string::npos)
+      << anchored.out;
+  const nlohmann::json a = nlohmann::json::parse(read_file(dir / "a.json"));
+  EXPECT_EQ(a["runs"][0]["transform"], "anchored");
+  EXPECT_EQ(a["options"]["rigidity"], 0.3);
+  EXPECT_EQ(a["runs"][0]["status"], "SUCCESS");
 }
 
 TEST_F(LaplacianDeformTool, HelpExitsCleanly)
