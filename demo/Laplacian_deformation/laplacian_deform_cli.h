@@ -80,7 +80,7 @@ struct Options
   // method
   std::string representation = "edge", weights = "cotangent", transform = "sr1", solver = default_solver();
   unsigned int iterations = 4;
-  std::string start = "rotation";   // identity | rotation (Mesh_deformer::set_start)
+  std::string start = "identity";   // identity | rotation (Mesh_deformer::set_start)
   double rigidity = 0;              // Mesh_deformer::set_rigidity_weight
   double tolerance = 0;
   bool soft = false;
@@ -144,9 +144,10 @@ inline const char* usage_text()
 "  --rigidity W          add rigidity rows of relative weight W on the node graph's spokes\n"
 "                        (default 0; 0.3 keeps a twisted tube's radius, see the manual)\n"
 "  --iterations N        iterations (default 4, the paper's 3 to 4)\n"
-"  --start rotation|identity\n"
-"                        first solve: the handles' rotation propagated by a harmonic field\n"
-"                        (default), or T = I (plain Laplacian editing, then the iterations)\n"
+"  --start identity|rotation\n"
+"                        first solve: T = I (default: plain Laplacian editing, then the\n"
+"                        iterations), or the handles' rotation propagated by a harmonic field\n"
+"                        (for large rotations: bends, twists)\n"
 "  --tolerance X         stop when an iteration moves no vertex by more than X times the ROI's\n"
 "                        bounding-box diagonal (default 0: run every iteration)\n"
 "  --soft W              soft handle constraints of relative weight W (default: hard)\n"

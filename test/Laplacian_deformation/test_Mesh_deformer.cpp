@@ -672,6 +672,7 @@ TYPED_TEST(RotationBased, PropagatedStartGivesTheRigidMotionInOneSolve)
   for(vertex_descriptor v : controls_near(m, Eigen::Vector3d(0, 0, -1), 0.45))
     controls.push_back(v);
   typename TypeParam::Deformer d(m);
+  d.set_start(LD::ROTATION_START);
   d.insert_roi_vertices(vertices(m).begin(), vertices(m).end());
   d.insert_control_vertices(controls.begin(), controls.end());
   for(vertex_descriptor v : controls)
@@ -702,7 +703,8 @@ TEST(MeshDeformerStart, HarmonicFieldIsBoundedAndFactoredOncePerPreprocess)
   Surface_mesh m = bumpy_plane();
   const Task task = patch_task(m);
   LD::Mesh_deformer<Surface_mesh> d(m);
-  EXPECT_EQ(d.start(), LD::ROTATION_START);                      // the default
+  EXPECT_EQ(d.start(), LD::IDENTITY_START);                      // the default
+  d.set_start(LD::ROTATION_START);
   d.insert_roi_vertices(task.roi.begin(), task.roi.end());
   d.insert_control_vertices(task.controls.begin(), task.controls.end());
   ASSERT_TRUE(d.preprocess());
@@ -757,6 +759,7 @@ TEST(MeshDeformerStart, TwoGroupsWithOppositeRotationsEachGetTheirOwn)
   Surface_mesh m = tube();
   const std::vector<vertex_descriptor> bottom = ring(m, 0), top = ring(m, 20);
   Deformer d(m);
+  d.set_start(LD::ROTATION_START);
   d.insert_roi_vertices(vertices(m).begin(), vertices(m).end());   // no fixed vertex
   d.insert_control_vertices(bottom.begin(), bottom.end());
   d.insert_control_vertices(top.begin(), top.end());
@@ -789,6 +792,7 @@ TEST(MeshDeformerStart, RotateKeepsTheWindingOfLargeTurns)
       if(std::size_t(v) >= 32)
         roi.push_back(v);
     Deformer d(m);
+    d.set_start(LD::ROTATION_START);
     d.insert_roi_vertices(roi.begin(), roi.end());
     d.insert_control_vertices(top.begin(), top.end());
     const Eigen::Quaternion<double> q(Eigen::AngleAxisd(1.5 * pi, Eigen::Vector3d::UnitZ()));   // 270 degrees
@@ -971,6 +975,7 @@ TEST(MeshDeformerStart, RigidityRowsKeepRigidMotionsAndRefuseBadWeights)
   const auto rest = positions(m);
   const std::vector<vertex_descriptor> controls = controls_near(m, Eigen::Vector3d(0, 0, 1), 0.45);
   Deformer d(m);
+  d.set_start(LD::ROTATION_START);
   d.set_rigidity_weight(0.3);
   EXPECT_EQ(d.rigidity_weight(), 0.3);
   d.insert_roi_vertices(vertices(m).begin(), vertices(m).end());

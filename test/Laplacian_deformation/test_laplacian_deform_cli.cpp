@@ -53,7 +53,7 @@ TEST(LaplacianDeformCli, ParsesEveryOption)
   std::string error;
   ASSERT_TRUE(parse({"m.off", "--handle", "3,5-7", "--handle=9", "--roi-rings", "4", "--translate", "1,-2,3e-1",
                      "--rotate", "0,0,1,90,1,2,3", "--representation", "vertex", "--weights=uniform",
-                     "--transform", "similarity", "--start", "identity", "--rigidity", "0.3", "--iterations", "7", "--tolerance", "1e-5", "--soft", "10",
+                     "--transform", "similarity", "--start", "rotation", "--rigidity", "0.3", "--iterations", "7", "--tolerance", "1e-5", "--soft", "10",
                      "--solver", "cholmod", "--threads", "2", "-o", "out.obj", "--report", "r.json", "--force",
                      "--triangulate", "--progress", "never", "--quiet"}, o, error)) << error;
   EXPECT_EQ(o.mesh, "m.off");
@@ -63,7 +63,7 @@ TEST(LaplacianDeformCli, ParsesEveryOption)
   EXPECT_EQ(o.translate[2], 0.3);
   EXPECT_TRUE(o.has_rotate && o.has_center);
   EXPECT_EQ(o.angle_degrees, 90.);
-  EXPECT_EQ(o.start, "identity");
+  EXPECT_EQ(o.start, "rotation");
   EXPECT_EQ(o.rigidity, 0.3);
   EXPECT_EQ(o.center[1], 2.);
   EXPECT_EQ(o.representation, "vertex");
@@ -263,7 +263,7 @@ protected:
 // The deformation the library gives for the cactus task (the CLI's defaults: cotangent, S*R1,
 // hard constraints, 4 iterations, tolerance 0).
 template <class Representation>
-cli::Mesh library_result(LD::Deformation_start start = LD::ROTATION_START)
+cli::Mesh library_result(LD::Deformation_start start = LD::IDENTITY_START)
 {
   cli::Mesh mesh;
   EXPECT_TRUE(read_data_mesh("cactus.off", mesh));
@@ -328,15 +328,15 @@ TEST_F(LaplacianDeformTool, CactusTaskReproducesTheLibraryExactly)
             report["selection"]["fixed"].get<std::size_t>(), 620u);
   EXPECT_EQ(report["motion"]["matrix"][3], nlohmann::json({0., 0., 0., 1.}));
   EXPECT_EQ(report["runs"][0]["max_handle_distance"], 0.);   // hard constraints
-  EXPECT_EQ(report["options"]["start"], "rotation");
+  EXPECT_EQ(report["options"]["start"], "identity");
 
-  // --start identity: the library's IDENTITY_START, also bit for bit; the cactus's handle turns,
+  // --start rotation: the library's ROTATION_START, also bit for bit; the cactus's handle turns,
   // so the two starts differ
-  const Tool_result i = run({cactus, sel, def, "--start", "identity", "-o", "identity.off"});
+  const Tool_result i = run({cactus, sel, def, "--start", "rotation", "-o", "rotation.off"});
   ASSERT_EQ(i.code, 0) << i.err;
-  const cli::Mesh identity = library_result<LD::Edge_based_representation>(LD::IDENTITY_START);
-  expect_identical(dir / "identity.off", identity);
-  const cli::Mesh rotation = library_result<LD::Edge_based_representation>();
+  const cli::Mesh rotation = library_result<LD::Edge_based_representation>(LD::ROTATION_START);
+  expect_identical(dir / "rotation.off", rotation);
+  const cli::Mesh identity = library_result<LD::Edge_based_representation>();
   double difference = 0;
   for(cli::vertex_descriptor v : vertices(identity))
     difference = (std::max)(difference, std::sqrt(CGAL::squared_distance(identity.point(v), rotation.point(v))));
@@ -399,7 +399,7 @@ TEST_F(LaplacianDeformTool, CommandLineSelectionAndPolicies)
 
   // the anchored S*R1 with rigidity rows, both named in the report
   const Tool_result anchored = run({"quads.off", "--triangulate", "--handle", "12", "--roi-rings", "2", "--rotate",
-                                    "1,0,0,40", "--transform", "anchored", "--rigidity", "0.3", "-o", "anchored.off",
+                                    "1,0,0,40", "--transform", "anchored", "--start", "rotation", "--rigidity", "0.3", "-o", "anchored.off",
                                     "--report", "a.json"});
   ASSERT_EQ(anchored.code, 0) << anchored.err;
   EXPECT_NE(anchored.out.find("anchored S*R1 transforms, rotation start, rigidity rows (weight 0.3)"), std::string::npos)

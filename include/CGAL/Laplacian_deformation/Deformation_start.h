@@ -15,8 +15,8 @@ or a restart (see \ref LapDefStart).
 */
 enum Deformation_start
 {
-  /// `T_a = I`: the first solve is plain Laplacian editing; a handle's rotation reaches the
-  /// region of interest only through the iterations.
+  /// `T_a = I` (the default): the first solve is plain Laplacian editing; a handle's rotation
+  /// reaches the region of interest only through the iterations.
   IDENTITY_START = 0,
   /// `T_a = exp(sum_g phi_g(a) log R_g)`: each control group's rotation `R_g`, propagated into
   /// the region of interest by a harmonic field `phi_g` (1 on the group, 0 on the fixed vertices

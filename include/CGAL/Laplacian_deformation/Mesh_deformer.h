@@ -51,8 +51,8 @@ depend on the transforms: it is factored once per ROI / control set / constraint
 moving targets never refactors it.
 
 The first iteration after `preprocess()` or `reset()` is one solve with the start transforms
-(`start()`: by default `ROTATION_START`, each control group's rotation propagated by a harmonic
-field, see \ref LapDefStart; `IDENTITY_START`: `T = I`); later iterations (also in later
+(`start()`: by default `IDENTITY_START`, `T = I`; `ROTATION_START`: each control group's
+rotation propagated by a harmonic field, see \ref LapDefStart); later iterations (also in later
 `deform()` calls) continue from the previous solution, so `deform(7, 0)` equals seven
 `deform(1, 0)` calls. Iterations stop after `iterations` or when the largest vertex
 displacement of an iteration, relative to the ROI's bounding-box diagonal, is at most `tolerance`.
@@ -286,7 +286,7 @@ public:
   /// the tolerance of `deform()`.
   double tolerance() const { return m_tolerance; }
   /// the transforms of the first solve after `preprocess()`, `reset()` or a restart (default
-  /// `ROTATION_START`, see \ref LapDefStart). Changing it never refactors the deformation system;
+  /// `IDENTITY_START`; `ROTATION_START` for large rotations of the handles, see \ref LapDefStart). Changing it never refactors the deformation system;
   /// it takes effect at the next start.
   void set_start(Deformation_start start) { m_start = start; }
   /// the start of the iterations.
@@ -708,7 +708,7 @@ private:
   internal::Rotation_start_field m_field;
   std::vector<Eigen::Quaterniond> m_target_rotation;   // per control: the rotation given by rotate()
   std::vector<unsigned char> m_rotation_known;         // whether it is known (see rotate())
-  Deformation_start m_start = ROTATION_START;
+  Deformation_start m_start = IDENTITY_START;
   bool m_field_ready = false;
   Eigen::SparseMatrix<double, Eigen::RowMajor> m_rigid_d;   // [D; lambda S] when rigidity_weight() > 0
   Eigen::MatrixX3d m_rigid_delta;

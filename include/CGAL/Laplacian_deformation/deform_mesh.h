@@ -85,7 +85,7 @@ as `controls`.
   \cgalParamNEnd
   \cgalParamNBegin{start}
     \cgalParamDescription{the transforms of the first solve, a `Deformation_start` (package parameter; see \ref LapDefStart)}
-    \cgalParamDefault{`ROTATION_START`}
+    \cgalParamDefault{`IDENTITY_START`}
   \cgalParamNEnd
   \cgalParamNBegin{concurrency_tag}
     \cgalParamDescription{`CGAL::Sequential_tag` or `CGAL::Parallel_tag` for the local step (package parameter)}
@@ -129,7 +129,7 @@ Deformation_result deform_mesh(TriangleMesh& tm, const VertexRange& roi, const C
   auto target = std::begin(targets);
   for(auto v : controls)
     deformer.set_target_position(v, *target++);
-  deformer.set_start(choose_parameter(get_parameter(np, internal_np::start), ROTATION_START));
+  deformer.set_start(choose_parameter(get_parameter(np, internal_np::start), IDENTITY_START));
   if(!is_default_parameter<NamedParameters, internal_np::soft_constraint_weight_t>::value)
     deformer.set_soft_constraints(choose_parameter(get_parameter(np, internal_np::soft_constraint_weight), 1.));
   return deformer.deform(choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 4u),
