@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -380,6 +381,114 @@ TEST(BadInput, C13_TinyCoordinates)
       EXPECT_TRUE(points_near(scaled_result<D>(3e-30, soft), unit, 1e-9));
     }
   });
+}
+
+typedef LD::Mesh_deformer<Surface_mesh, LD::Edge_based_representation, LD::Uniform_weights, LD::Rotation_transform,
+                          CGAL::Default, CGAL::Default, CGAL::Sequential_tag> Edge_uniform_rotation;
+typedef LD::Mesh_deformer<Surface_mesh, LD::Vertex_based_representation, LD::Uniform_weights, LD::Rotation_transform,
+                          CGAL::Default, CGAL::Default, CGAL::Sequential_tag> Vertex_uniform_rotation;
+
+// the patch scaled by `scale`, its centre pulled by (0.1, 0, 0.3) * scale, deform(6, 1e-4)
+struct Scaled_run
+{
+  LD::Deformation_result result;
+  std::vector<Point_3> points;     // divided by the scale
+  bool unchanged = false;          // the mesh is bitwise as before
+};
+template <class D>
+Scaled_run scaled_run(double scale)
+{
+  Patch patch(scale);
+  const Snapshot before(patch.mesh);
+  D d(patch.mesh);
+  patch.select(d);
+  const Point_3 p = patch.mesh.point(patch.center);
+  d.set_target_position(patch.center, Point_3(p.x() + 0.1 * scale, p.y(), p.z() + 0.3 * scale));
+  Scaled_run run;
+  run.result = d.deform(6, 1e-4);
+  run.unchanged = Snapshot(patch.mesh) == before;
+  for(vertex_descriptor v : patch.mesh.vertices())
+    run.points.push_back(Point_3(patch.mesh.point(v).x() / scale, patch.mesh.point(v).y() / scale,
+                                 patch.mesh.point(v).z() / scale));
+  return run;
+}
+
+TEST(BadInput, C36_ExtremeScales)
+{
+  // every decade from 1e-300 to 1e300: either the unit-scale result times the scale (same
+  // iterations, relative error below 1e-9 of the patch's diagonal) or a documented failure that
+  // writes nothing. Uniform weights must succeed at every scale (their operator does not
+  // depend on the scale); cotangent weights scale like 1/scale^2 and vanish (or overflow)
+  // far from 1, which must be reported as a zero or non-finite operator, never as a success.
+  auto sweep = [](auto* tag, bool uniform, const char* name) {
+    typedef std::remove_pointer_t<decltype(tag)> D;
+    const Scaled_run unit = scaled_run<D>(1.);
+    ASSERT_TRUE(unit.result) << unit.result.message;
+    ASSERT_GE(unit.result.iterations, 2u);
+    const double diagonal = std::sqrt(2.);
+    double worst = 0;
+    int lowest = 0, highest = 0, successes = 0;
+    for(int e = -300; e <= 300; ++e)
+    {
+      const double scale = std::stod("1e" + std::to_string(e));
+      const Scaled_run run = scaled_run<D>(scale);
+      if(run.result)
+      {
+        EXPECT_EQ(run.result.iterations, unit.result.iterations) << name << " scale " << scale;
+        double error = 0;
+        for(std::size_t i = 0; i < run.points.size(); ++i)
+          error = (std::max)(error, internal::point_distance(run.points[i], unit.points[i]) / diagonal);
+        EXPECT_LE(error, 1e-9) << name << " scale " << scale;
+        worst = (std::max)(worst, error);
+        ++successes;
+        lowest = (std::min)(lowest, e);
+        highest = (std::max)(highest, e);
+      }
+      else
+      {
+        EXPECT_FALSE(uniform) << name << " scale " << scale << ": " << run.result.message;
+        EXPECT_TRUE(run.unchanged) << name << " scale " << scale;
+        const bool zero = run.result.status == LD::UNANCHORED_REGION &&
+                          run.result.message.find("Laplacian operator is zero") != std::string::npos;
+        const bool not_finite = run.result.status == LD::NON_FINITE_INPUT &&
+                                run.result.message.find("Laplacian operator is not finite") != std::string::npos;
+        const bool squares = run.result.status == LD::FACTORIZATION_FAILED &&
+                             (run.result.message.find("normal matrix overflows") != std::string::npos ||
+                              run.result.message.find("normal matrix underflows") != std::string::npos);
+        EXPECT_TRUE(zero || not_finite || squares) << name << " scale " << scale << ": status " << run.result.status
+                                        << " '" << run.result.message << "'";
+      }
+    }
+    EXPECT_EQ(successes, highest - lowest + 1) << name << ": the successful scales are not one range";
+    std::cout << name << ": success from 1e" << lowest << " to 1e" << highest << ", largest relative error "
+              << worst << std::endl;
+  };
+  sweep(static_cast<Edge_uniform*>(nullptr), true, "edge, uniform, S*R1");
+  sweep(static_cast<Vertex_uniform*>(nullptr), true, "vertex, uniform, S*R1");
+  sweep(static_cast<Edge_uniform_rotation*>(nullptr), true, "edge, uniform, rotation");
+  sweep(static_cast<Vertex_uniform_rotation*>(nullptr), true, "vertex, uniform, rotation");
+  sweep(static_cast<Edge_cotangent*>(nullptr), false, "edge, cotangent, S*R1");
+  sweep(static_cast<Vertex_cotangent*>(nullptr), false, "vertex, cotangent, S*R1");
+}
+
+// a transform policy whose fit is never finite
+struct Nan_transform
+{
+  Eigen::Matrix3d transform(const LD::Transform_cell&) const { return Eigen::Matrix3d::Constant(nan_value); }
+};
+
+TEST(BadInput, C37_NonFiniteTransformFit)
+{
+  // a fit that is not finite fails the call (it used to be replaced by the identity silently)
+  typedef LD::Mesh_deformer<Surface_mesh, LD::Vertex_based_representation, LD::Uniform_weights, Nan_transform,
+                            CGAL::Default, CGAL::Default, CGAL::Sequential_tag> D;
+  Patch patch;
+  D d(patch.mesh);
+  patch.select(d);
+  d.set_target_position(patch.center, shifted(patch.mesh.point(patch.center), 0, 0, 0.2));
+  ASSERT_TRUE(succeeded_finite(d.deform(1, 0), patch.mesh));    // the first iteration uses T = I
+  const Snapshot before(patch.mesh);
+  EXPECT_TRUE(failed_cleanly(d.deform(2, 0), LD::NON_FINITE_RESULT, "transform fit", before, patch.mesh));
 }
 
 TEST(BadInput, C14_SeveralComponents)

@@ -484,7 +484,9 @@ private:
       lo = lo.cwiseMin(m_rest[index(v)]);
       hi = hi.cwiseMax(m_rest[index(v)]);
     }
-    return (hi - lo).norm();
+    // scaled by a power of two (exact), so that the norm neither overflows nor underflows
+    const double unit = internal::normalizing_power_of_two((hi - lo).maxCoeff());
+    return (unit * (hi - lo)).norm() / unit;
   }
 
   Triangle_mesh& m_tm;
