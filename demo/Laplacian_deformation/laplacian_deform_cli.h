@@ -941,6 +941,7 @@ struct Run_record
   std::vector<Iteration_record> iterations;
   double energy = 0, last_change = 0, max_constraint_residual = 0, max_handle_distance = 0;
   LD::Deformation_quality quality;     // metrics.h, over the non-fixed vertices
+  std::vector<LD::Deformation_warning> warnings;   // of the last deform() call
   Mesh mesh;
   std::string name() const { return representation + "-based"; }
 };
@@ -980,6 +981,17 @@ inline const char* status_name(LD::Deformation_status s)
     case LD::INVALID_PARAMETER: return "INVALID_PARAMETER";
     case LD::TOPOLOGY_CHANGED: return "TOPOLOGY_CHANGED";
     case LD::INVALID_MESH: return "INVALID_MESH";
+  }
+  return "UNKNOWN";
+}
+
+inline const char* warning_name(LD::Deformation_warning_kind k)
+{
+  switch(k)
+  {
+    case LD::FOLDED_FACES: return "FOLDED_FACES";
+    case LD::HANDLE_TOUCHES_FIXED: return "HANDLE_TOUCHES_FIXED";
+    case LD::NO_MOTION: return "NO_MOTION";
   }
   return "UNKNOWN";
 }

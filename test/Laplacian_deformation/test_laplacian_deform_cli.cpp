@@ -468,6 +468,60 @@ TEST_F(LaplacianDeformTool, BadUseIsRefusedAndWritesNothing)
   EXPECT_NE(read_file(dir / "copy.off"), original);
 }
 
+// Results that look wrong are flagged, on the standard error (even with --quiet), in the summary
+// and in the report; the run still succeeds and writes its result
+TEST_F(LaplacianDeformTool, WarningsAreReported)
+{
+  write_file(dir / "grid.off", [] {
+    std::ostringstream s;
+    const Soup g = bumpy_plane_soup(8, 0.1);
+    s.precision(17);
+    s << "OFF\n" << g.points.size() << ' ' << g.faces.size() << " 0\n";
+    for(const auto& p : g.points)
+      s << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+    for(const auto& f : g.faces)
+      s << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
+    return s.str();
+  }());
+  // a single handle rotated about itself (its centroid): nothing moves
+  {
+    const Tool_result r = run({"grid.off", "--handle", "40", "--roi-rings", "2", "--rotate", "0,0,1,30", "-o", "out.off",
+                               "--report", "r.json", "--quiet"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("laplacian_deform: warning: every control vertex's target is its rest position"), std::string::npos)
+        << r.err;
+    const nlohmann::json report = nlohmann::json::parse(read_file(dir / "r.json"));
+    ASSERT_EQ(report["runs"][0]["warnings"].size(), 1u) << report["runs"][0]["warnings"].dump();
+    EXPECT_EQ(report["runs"][0]["warnings"][0]["kind"], "NO_MOTION");
+    EXPECT_EQ(report["runs"][0]["warnings"][0]["count"], 1);
+    EXPECT_TRUE(fs::exists(dir / "out.off"));
+  }
+  // a handle whose region of interest is only itself: it touches the fixed vertices; dragged
+  // sideways past its neighbours, the faces around it fold
+  {
+    const Tool_result r = run({"grid.off", "--handle", "40", "--roi-rings", "0", "--translate", "0.3,0,0", "-o", "out2.off",
+                               "--report", "r2.json"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("warning     FOLDED_FACES: "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("warning     HANDLE_TOUCHES_FIXED: 1 control vertices are adjacent to fixed vertices"),
+              std::string::npos) << r.out;
+    EXPECT_NE(r.err.find("laplacian_deform: warning: 1 control vertices are adjacent"), std::string::npos) << r.err;
+    const nlohmann::json report = nlohmann::json::parse(read_file(dir / "r2.json"));
+    ASSERT_EQ(report["runs"][0]["warnings"].size(), 2u) << report["runs"][0]["warnings"].dump();
+    EXPECT_EQ(report["runs"][0]["warnings"][0]["kind"], "FOLDED_FACES");
+    EXPECT_EQ(report["runs"][0]["warnings"][1]["kind"], "HANDLE_TOUCHES_FIXED");
+  }
+  // an ordinary task: no warning
+  {
+    const Tool_result r = run({"grid.off", "--handle", "40", "--roi-rings", "3", "--translate", "0,0,0.05", "-o", "out3.off",
+                               "--report", "r3.json"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+    const nlohmann::json report = nlohmann::json::parse(read_file(dir / "r3.json"));
+    EXPECT_TRUE(report["runs"][0]["warnings"].empty());
+  }
+}
+
 // NaN or infinite coordinates in a mesh file: the line and the value, not "malformed file"
 TEST_F(LaplacianDeformTool, NonFiniteCoordinatesNameTheLineAndTheValue)
 {

@@ -59,7 +59,7 @@ inline std::string quoted_excerpt(const std::string& text, std::size_t max_lengt
 `0` fixed, `1` region of interest, `2` handle; lines starting with `#` are comments.
 
 Returns `false` and explains in `error` (with the line number and the offending line, quoted with
-non-printable bytes escaped as `\\xNN` and cut after 40 bytes) if a line holds anything but one
+non-printable bytes escaped as `\xNN` and cut after 40 bytes) if a line holds anything but one
 of `0`, `1`, `2`, or if `expected_count` (when not `0`) differs from the number of statuses;
 `status` is then left unchanged.
 */
