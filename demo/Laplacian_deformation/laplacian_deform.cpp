@@ -82,6 +82,16 @@ std::string run_lines(const Run_record& r)
   return s.str();
 }
 
+// the warnings of a run (a success whose result looks wrong), one line each
+std::string warning_lines(const Run_record& r, bool name_the_run)
+{
+  std::ostringstream s;
+  for(const LD::Deformation_warning& w : r.warnings)
+    s << "warning     " << (name_the_run ? r.name() + ": " : std::string()) << warning_name(w.kind) << ": "
+      << w.message << '\n';
+  return s.str();
+}
+
 // the side-by-side table of a comparison
 std::string comparison_table(const Run_record runs[2])
 {
@@ -116,6 +126,9 @@ std::string comparison_table(const Run_record runs[2])
 
 nlohmann::json run_json(const Run_record& r)
 {
+  nlohmann::json warnings = nlohmann::json::array();
+  for(const LD::Deformation_warning& w : r.warnings)
+    warnings.push_back({{"kind", warning_name(w.kind)}, {"count", w.count}, {"message", w.message}});
   nlohmann::json iterations = nlohmann::json::array();
   for(const Iteration_record& it : r.iterations)
     iterations.push_back({{"seconds", it.seconds}, {"local_step_seconds", it.local_step_seconds},
@@ -134,7 +147,8 @@ nlohmann::json run_json(const Run_record& r)
                                                           {"max", r.quality.max_dihedral_angle_change}}},
                        {"normal_deviation_degrees", {{"mean", r.quality.mean_normal_deviation},
                                                      {"max", r.quality.max_normal_deviation}}},
-                       {"arap_energy", r.quality.arap_energy}}}};
+                       {"arap_energy", r.quality.arap_energy}}},
+          {"warnings", warnings}};
 }
 
 int run_tool(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
@@ -238,6 +252,8 @@ int run_tool(const std::vector<std::string>& args, std::ostream& out, std::ostre
     summary << '\n' << comparison_table(runs.data());
   else
     summary << run_lines(runs[0]);
+  for(const Run_record& r : runs)
+    summary << warning_lines(r, o.comparing());
 
   // the JSON report
   nlohmann::json report;
@@ -319,6 +335,11 @@ int run_tool(const std::vector<std::string>& args, std::ostream& out, std::ostre
     return fail(err, EXIT_ERROR, error);
   }
   progress.stop();
+  // the warnings also on the standard error, even with --quiet: the run succeeded, but its result
+  // probably is not what was meant
+  for(const Run_record& r : runs)
+    for(const LD::Deformation_warning& w : r.warnings)
+      err << program << ": warning: " << (o.comparing() ? r.name() + ": " : std::string()) << w.message << std::endl;
   if(!o.quiet)
   {
     out << summary.str();

@@ -30,6 +30,7 @@
 #include <condition_variable>
 #include <cstddef>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -86,8 +87,9 @@ struct Options
   bool soft = false;
   double soft_weight = 1;
   unsigned int threads = 0;         // 0: the default (every core when TBB is available)
-  // selection from the command line
-  std::vector<std::size_t> handles;
+  // selection from the command line: --handle ids and ranges, as inclusive [first, last] pairs
+  // (expanded only once the mesh is read and every id is known to exist)
+  std::vector<std::pair<std::size_t, std::size_t>> handles;
   long roi_rings = -1;
   double roi_radius = -1;
   bool has_translate = false, has_rotate = false, has_center = false;
@@ -216,8 +218,9 @@ inline bool parse_doubles(const std::string& text, std::vector<double>& values)
   return true;
 }
 
-// "12,40-45,300"
-inline bool parse_ids(const std::string& text, std::vector<std::size_t>& ids)
+// "12,40-45,300" as the ranges [12, 12], [40, 45], [300, 300] (not expanded: a range is checked
+// against the mesh's vertex count before it costs any memory)
+inline bool parse_ids(const std::string& text, std::vector<std::pair<std::size_t, std::size_t>>& ranges)
 {
   for(const std::string& part : split(text, ','))
   {
@@ -227,15 +230,11 @@ inline bool parse_ids(const std::string& text, std::vector<std::size_t>& ids)
     {
       if(!parse_unsigned(part, a))
         return false;
-      ids.push_back(std::size_t(a));
+      b = a;
     }
-    else
-    {
-      if(!parse_unsigned(part.substr(0, dash), a) || !parse_unsigned(part.substr(dash + 1), b) || b < a)
-        return false;
-      for(unsigned long long i = a; i <= b; ++i)
-        ids.push_back(std::size_t(i));
-    }
+    else if(!parse_unsigned(part.substr(0, dash), a) || !parse_unsigned(part.substr(dash + 1), b) || b < a)
+      return false;
+    ranges.emplace_back(std::size_t(a), std::size_t(b));
   }
   return true;
 }
@@ -531,6 +530,37 @@ struct Task
   std::size_t count(int s) const { return std::size_t(std::count(status.begin(), status.end(), s)); }
 };
 
+/// In a text mesh file (OFF, OBJ, ASCII PLY), the first token that reads as a number but is NaN or
+/// infinite ("nan", "inf", "1e999"), as "line N: the coordinate 'TOKEN' is not a finite number"
+/// (the token quoted with non-printable bytes escaped, cut after 40 bytes); empty if there is none
+/// or the file is binary.
+inline std::string non_finite_number_in(const fs::path& file)
+{
+  const std::string ext = extension_of(file);
+  if(!detail::one_of(ext, {"off", "obj", "ply"}))
+    return "";
+  std::ifstream in(file, std::ios::binary);
+  std::string line, token;
+  for(std::size_t number = 1; std::getline(in, line); ++number)
+  {
+    if(ext == "ply" && line.compare(0, 7, "format ") == 0 && line.compare(0, 12, "format ascii") != 0)
+      return "";
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if(first == std::string::npos || line[first] == '#' || line.compare(first, 7, "comment") == 0)
+      continue;
+    std::istringstream tokens(line);
+    while(tokens >> token)
+    {
+      char* end = nullptr;
+      const double x = std::strtod(token.c_str(), &end);
+      if(end != token.c_str() && *end == '\0' && !std::isfinite(x))
+        return "line " + std::to_string(number) + ": the coordinate " + LD::IO::internal::quoted_excerpt(token) +
+               " is not a finite number";
+    }
+  }
+  return "";
+}
+
 /// reads a mesh; refuses non-triangle faces unless `triangulate`
 inline bool read_mesh(const fs::path& file, bool triangulate, Mesh& mesh, std::size_t& triangulated, std::string& error)
 {
@@ -549,9 +579,23 @@ inline bool read_mesh(const fs::path& file, bool triangulate, Mesh& mesh, std::s
       return error = "cannot open " + quoted(file) + ": permission denied or unreadable", false;
   }
   mesh.clear();
-  if(!CGAL::IO::read_polygon_mesh(file.string(), mesh))
+  const bool read = CGAL::IO::read_polygon_mesh(file.string(), mesh);
+  bool finite = true;
+  for(vertex_descriptor v : vertices(mesh))
+    finite = finite && std::isfinite(mesh.point(v).x()) && std::isfinite(mesh.point(v).y()) &&
+             std::isfinite(mesh.point(v).z());
+  if(!read || !finite)
+  {
+    // NaN or infinite coordinates are a common cause: name the line and the value
+    const std::string non_finite = non_finite_number_in(file);
+    if(!non_finite.empty())
+      return error = "cannot read a mesh from " + quoted(file) + ": " + non_finite +
+                     " (NaN and infinite coordinates cannot be deformed)", false;
+    if(!finite)
+      return error = "cannot read a mesh from " + quoted(file) + ": a vertex has a NaN or infinite coordinate", false;
     return error = "cannot read a mesh from " + quoted(file) + ": not a valid " + ext +
                    " polygon mesh (malformed file, or faces that do not form a manifold mesh)", false;
+  }
   if(is_empty(mesh) || num_faces(mesh) == 0)
     return error = "the mesh " + quoted(file) + " has no face", false;
   std::size_t non_triangles = 0;
@@ -682,20 +726,24 @@ inline bool load_task(const Options& o, const fs::path& data_dir, Task& task, st
   }
   else
   {
-    for(std::size_t h : o.handles)
-      if(h >= n)
-        return error = "handle vertex " + std::to_string(h) + " does not exist: the mesh has " + std::to_string(n) +
-                       " vertices (ids 0 to " + std::to_string(n - 1) + ")", false;
-    const std::vector<bool> roi = o.roi_rings >= 0 ? k_ring_region(task.mesh, o.handles, std::size_t(o.roi_rings))
-                                                   : radius_region(task.mesh, o.handles, o.roi_radius);
+    std::vector<std::size_t> handles;
+    for(const std::pair<std::size_t, std::size_t>& range : o.handles)
+      if(range.second >= n)
+        return error = "handle vertex " + std::to_string(range.second) + " does not exist: the mesh has " +
+                       std::to_string(n) + " vertices (ids 0 to " + std::to_string(n - 1) + ")", false;
+    for(const std::pair<std::size_t, std::size_t>& range : o.handles)
+      for(std::size_t h = range.first; h <= range.second; ++h)
+        handles.push_back(h);
+    const std::vector<bool> roi = o.roi_rings >= 0 ? k_ring_region(task.mesh, handles, std::size_t(o.roi_rings))
+                                                   : radius_region(task.mesh, handles, o.roi_radius);
     task.status.assign(n, LD::IO::BOTSCH08_FIXED);
     for(std::size_t v = 0; v < n; ++v)
       if(roi[v])
         task.status[v] = LD::IO::BOTSCH08_REGION_OF_INTEREST;
-    for(std::size_t h : o.handles)
+    for(std::size_t h : handles)
       task.status[h] = LD::IO::BOTSCH08_HANDLE;
     std::ostringstream d;
-    d << o.handles.size() << " handle id" << (o.handles.size() > 1 ? "s" : "") << ", ";
+    d << handles.size() << " handle id" << (handles.size() > 1 ? "s" : "") << ", ";
     if(o.roi_rings >= 0)
       d << o.roi_rings << "-ring region of interest";
     else
@@ -931,6 +979,7 @@ struct Run_record
   std::vector<Iteration_record> iterations;
   double energy = 0, last_change = 0, max_constraint_residual = 0, max_handle_distance = 0;
   LD::Deformation_quality quality;     // metrics.h, over the non-fixed vertices
+  std::vector<LD::Deformation_warning> warnings;   // of the last deform() call
   Mesh mesh;
   std::string name() const { return representation + "-based"; }
 };
@@ -970,6 +1019,17 @@ inline const char* status_name(LD::Deformation_status s)
     case LD::INVALID_PARAMETER: return "INVALID_PARAMETER";
     case LD::TOPOLOGY_CHANGED: return "TOPOLOGY_CHANGED";
     case LD::INVALID_MESH: return "INVALID_MESH";
+  }
+  return "UNKNOWN";
+}
+
+inline const char* warning_name(LD::Deformation_warning_kind k)
+{
+  switch(k)
+  {
+    case LD::FOLDED_FACES: return "FOLDED_FACES";
+    case LD::HANDLE_TOUCHES_FIXED: return "HANDLE_TOUCHES_FIXED";
+    case LD::NO_MOTION: return "NO_MOTION";
   }
   return "UNKNOWN";
 }

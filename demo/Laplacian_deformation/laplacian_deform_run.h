@@ -104,6 +104,7 @@ void deform_run(const Task& task, const Options& o, Run_record& run, Progress& p
     run.energy = r.energy;
     run.last_change = r.last_change;
     run.max_constraint_residual = r.max_constraint_residual;
+    run.warnings = r.warnings;
     if(r.iterations == 0 || r.last_change <= o.tolerance)   // no unknown, or converged
       break;
   }

@@ -24,6 +24,7 @@
 #include <limits>
 #include <memory>
 #include <set>
+#include <type_traits>
 #include <vector>
 
 namespace LD = CGAL::Laplacian_deformation;
@@ -393,6 +394,73 @@ TYPED_TEST_SUITE(GenericModels, Models);
 
 TYPED_TEST(GenericModels, EdgeBasedAgreesWithSurfaceMeshDouble) { check_model<TypeParam, true>(); }
 TYPED_TEST(GenericModels, VertexBasedAgreesWithSurfaceMeshDouble) { check_model<TypeParam, false>(); }
+
+// A vertex of another mesh of the same type is refused, and nothing is written into either mesh.
+// Polyhedron_3's descriptors are handles: every vertex of the other polyhedron is foreign (with
+// ids, the other's vertex 0 has id 0; without ids, the index map returns 0 for an unknown key:
+// both used to be taken for this mesh's vertex 0, and deform() then wrote into the other mesh).
+// Surface_mesh's and OpenMesh's descriptors are indices: a vertex of the other mesh is foreign
+// when its index is beyond this mesh's vertices.
+template <class Model>
+class ForeignVertices : public ::testing::Test {};
+typedef ::testing::Types<Surface_mesh_double, Polyhedron_with_ids, Polyhedron_without_ids
+#ifdef LAPLACIAN_DEFORMATION_HAS_OPENMESH
+                         , Open_mesh_model
+#endif
+                         > Foreign_vertex_models;
+TYPED_TEST_SUITE(ForeignVertices, Foreign_vertex_models);
+
+template <class Graph> struct Handle_descriptors : std::false_type {};
+template <class Gt, class I, template <class, class, class> class HDS, class A>
+struct Handle_descriptors<CGAL::Polyhedron_3<Gt, I, HDS, A> > : std::true_type {};
+
+TYPED_TEST(ForeignVertices, AreRefused)
+{
+  typedef TypeParam Model;
+  typedef typename Model::vertex_descriptor vertex_descriptor;
+  typedef LD::Mesh_deformer<typename Model::Graph, LD::Edge_based_representation, CGAL::Default, CGAL::Default,
+                            CGAL::Default, typename Model::Vertex_point_map> Deformer;
+  Model mesh, other;
+  std::vector<vertex_descriptor> foreign;
+  if constexpr(Handle_descriptors<typename Model::Graph>::value)
+    foreign = {other.by_index.front(), other.by_index[problem().roi.front()], other.by_index.back()};
+  else
+  {
+    // an isolated vertex beyond the first mesh's vertices
+    typedef typename boost::property_traits<typename Model::Vertex_point_map>::value_type Point;
+    foreign.push_back(add_vertex(other.graph()));
+    put(other.point_map(), foreign.back(), make_point<Point>({{0.5, 0.5, 1.}}));
+  }
+  const std::vector<Coordinates> mesh_before = current_positions(mesh), other_before = current_positions(other);
+  const auto roi = vertices_of(mesh, problem().roi), controls = vertices_of(mesh, problem().controls);
+  const auto t = targets<Model>();
+  for(vertex_descriptor bad : foreign)
+  {
+    Deformer d(mesh.graph(), mesh.point_map());
+    d.insert_roi_vertices(roi.begin(), roi.end());
+    d.insert_control_vertices(controls.begin(), controls.end());
+    for(std::size_t k = 0; k < controls.size(); ++k)
+      d.set_target_position(controls[k], t[k]);
+    EXPECT_FALSE(d.insert_roi_vertex(bad));
+    EXPECT_FALSE(d.insert_control_vertex(bad));
+    EXPECT_FALSE(d.is_roi_vertex(bad));
+    EXPECT_FALSE(d.is_control_vertex(bad));
+    EXPECT_FALSE(d.erase_roi_vertex(bad));
+    d.set_target_position(bad, t[0]);                     // ignored
+    const LD::Deformation_result r = d.deform(2, 0.);
+    EXPECT_EQ(r.status, LD::INVALID_PARAMETER) << r.message;
+    EXPECT_NE(r.message.find("not a vertex of the mesh"), std::string::npos) << r.message;
+    EXPECT_EQ(current_positions(mesh), mesh_before);
+    EXPECT_EQ(current_positions(other), other_before);
+    // without the foreign vertex: a success that writes only into this mesh
+    d.clear_roi_vertices();
+    d.insert_roi_vertices(roi.begin(), roi.end());
+    d.insert_control_vertices(controls.begin(), controls.end());
+    EXPECT_TRUE(d.deform(1, 0.)) << d.last_result().message;
+    EXPECT_EQ(current_positions(other), other_before);
+    d.reset();
+  }
+}
 
 TEST(GenericModels, TheTaskMovesTheMeshAndTheRepresentationsDiffer)
 {

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -47,6 +48,17 @@ std::string parse_error(const std::vector<std::string>& args)
   return error;
 }
 
+TEST(LaplacianDeformCli, HandleRangesAreNotExpandedWhenParsed)
+{
+  // a range is kept as a range until the mesh is read: "0-18446744073709551615" used to be
+  // expanded at parse time (bad_alloc, or 4 GB for 0-300000000 before the ids were refused)
+  cli::Options o;
+  std::string error;
+  ASSERT_TRUE(parse({"m.off", "--handle", "0-18446744073709551615,7", "--roi-rings", "1", "--translate", "0,0,1"},
+                    o, error)) << error;
+  EXPECT_EQ(o.handles, (std::vector<std::pair<std::size_t, std::size_t>>{{0, std::size_t(-1)}, {7, 7}}));
+}
+
 TEST(LaplacianDeformCli, ParsesEveryOption)
 {
   cli::Options o;
@@ -57,7 +69,7 @@ TEST(LaplacianDeformCli, ParsesEveryOption)
                      "--solver", "cholmod", "--threads", "2", "-o", "out.obj", "--report", "r.json", "--force",
                      "--triangulate", "--progress", "never", "--quiet"}, o, error)) << error;
   EXPECT_EQ(o.mesh, "m.off");
-  EXPECT_EQ(o.handles, (std::vector<std::size_t>{3, 5, 6, 7, 9}));
+  EXPECT_EQ(o.handles, (std::vector<std::pair<std::size_t, std::size_t>>{{3, 3}, {5, 7}, {9, 9}}));
   EXPECT_EQ(o.roi_rings, 4);
   EXPECT_TRUE(o.has_translate);
   EXPECT_EQ(o.translate[2], 0.3);
@@ -477,11 +489,122 @@ TEST_F(LaplacianDeformTool, BadUseIsRefusedAndWritesNothing)
   expect_refused({cactus, sel, def, "-o", "no/such/dir/out.off"}, 1, "cannot write 'no/such/dir/out.off': the folder 'no/such/dir' does not exist");
   expect_refused({cactus, "--handle", "620", "--roi-rings", "2", "--translate", "0,0,1"}, 1,
                  "handle vertex 620 does not exist: the mesh has 620 vertices (ids 0 to 619)");
+  // a huge range is refused by its last id, before any expansion
+  expect_refused({cactus, "--handle", "3,0-300000000", "--roi-rings", "2", "--translate", "0,0,1"}, 1,
+                 "handle vertex 300000000 does not exist: the mesh has 620 vertices (ids 0 to 619)");
 
   // with --force the input may be overwritten
   const Tool_result forced = run({"copy.off", sel, def, "-o", "copy.off", "--force", "--quiet"});
   EXPECT_EQ(forced.code, 0) << forced.err;
   EXPECT_NE(read_file(dir / "copy.off"), original);
+}
+
+// Results that look wrong are flagged, on the standard error (even with --quiet), in the summary
+// and in the report; the run still succeeds and writes its result
+TEST_F(LaplacianDeformTool, WarningsAreReported)
+{
+  write_file(dir / "grid.off", [] {
+    std::ostringstream s;
+    const Soup g = bumpy_plane_soup(8, 0.1);
+    s.precision(17);
+    s << "OFF\n" << g.points.size() << ' ' << g.faces.size() << " 0\n";
+    for(const auto& p : g.points)
+      s << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+    for(const auto& f : g.faces)
+      s << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
+    return s.str();
+  }());
+  // a single handle rotated about itself (its centroid): nothing moves
+  {
+    const Tool_result r = run({"grid.off", "--handle", "40", "--roi-rings", "2", "--rotate", "0,0,1,30", "-o", "out.off",
+                               "--report", "r.json", "--quiet"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("laplacian_deform: warning: every control vertex's target is its rest position"), std::string::npos)
+        << r.err;
+    const nlohmann::json report = nlohmann::json::parse(read_file(dir / "r.json"));
+    ASSERT_EQ(report["runs"][0]["warnings"].size(), 1u) << report["runs"][0]["warnings"].dump();
+    EXPECT_EQ(report["runs"][0]["warnings"][0]["kind"], "NO_MOTION");
+    EXPECT_EQ(report["runs"][0]["warnings"][0]["count"], 1);
+    EXPECT_TRUE(fs::exists(dir / "out.off"));
+  }
+  // a handle whose region of interest is only itself: it touches the fixed vertices; dragged
+  // sideways past its neighbours, the faces around it fold
+  {
+    const Tool_result r = run({"grid.off", "--handle", "40", "--roi-rings", "0", "--translate", "0.3,0,0", "-o", "out2.off",
+                               "--report", "r2.json"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("warning     FOLDED_FACES: "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("warning     HANDLE_TOUCHES_FIXED: 1 control vertices are adjacent to fixed vertices"),
+              std::string::npos) << r.out;
+    EXPECT_NE(r.err.find("laplacian_deform: warning: 1 control vertices are adjacent"), std::string::npos) << r.err;
+    const nlohmann::json report = nlohmann::json::parse(read_file(dir / "r2.json"));
+    ASSERT_EQ(report["runs"][0]["warnings"].size(), 2u) << report["runs"][0]["warnings"].dump();
+    EXPECT_EQ(report["runs"][0]["warnings"][0]["kind"], "FOLDED_FACES");
+    EXPECT_EQ(report["runs"][0]["warnings"][1]["kind"], "HANDLE_TOUCHES_FIXED");
+  }
+  // an ordinary task: no warning
+  {
+    const Tool_result r = run({"grid.off", "--handle", "40", "--roi-rings", "3", "--translate", "0,0,0.05", "-o", "out3.off",
+                               "--report", "r3.json"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+    const nlohmann::json report = nlohmann::json::parse(read_file(dir / "r3.json"));
+    EXPECT_TRUE(report["runs"][0]["warnings"].empty());
+  }
+}
+
+// NaN or infinite coordinates in a mesh file: the line and the value, not "malformed file"
+TEST_F(LaplacianDeformTool, NonFiniteCoordinatesNameTheLineAndTheValue)
+{
+  const std::string faces = "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+  const std::vector<std::string> task = {"--handle", "0", "--roi-rings", "1", "--translate", "0,0,1", "-o", "out.off"};
+  auto refused = [&](const std::string& name, const std::string& text, const std::string& message) {
+    write_file(dir / name, text);
+    std::vector<std::string> args{name};
+    args.insert(args.end(), task.begin(), task.end());
+    expect_refused(args, 1, "cannot read a mesh from '" + name + "': " + message);
+  };
+  refused("nan.off", "OFF\n4 4 0\n0 0 0\n1 nan 0\n0 1 0\n0 0 1\n" + faces,
+          "line 4: the coordinate 'nan' is not a finite number (NaN and infinite coordinates cannot be deformed)");
+  refused("inf.off", "OFF\n# a comment\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 -inf\n" + faces,
+          "line 7: the coordinate '-inf' is not a finite number");
+  refused("overflow.obj", "v 0 0 0\nv 1 0 0\nv 0 1e999 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n",
+          "line 3: the coordinate '1e999' is not a finite number");
+}
+
+// Binary garbage in a .sel or .def is quoted with its non-printable bytes escaped and cut after
+// 40 bytes, never echoed raw to the terminal
+TEST_F(LaplacianDeformTool, GarbageInTaskFilesIsQuotedEscaped)
+{
+  std::string garbage = "\x01\x1b[2J\x7f'\\";
+  for(int k = 0; k < 100; ++k)
+    garbage += char(0x80 + k);
+  {
+    std::istringstream in(read_file(sel));
+    std::ostringstream out;
+    std::string line;
+    for(int number = 1; std::getline(in, line); ++number)
+      out << (number == 3 ? garbage : line) << '\n';
+    write_file(dir / "garbage.sel", out.str());
+  }
+  write_file(dir / "garbage.def", "1 0 0 0\n0 1 0 0\n0 0 " + garbage + " 0\n0 0 0 1\n");
+  auto printable = [](const std::string& text) {
+    return std::all_of(text.begin(), text.end(), [](char c) { return c == '\n' || (c >= 0x20 && c <= 0x7e); });
+  };
+  const std::string shown = "'\\x01\\x1b[2J\\x7f\\'\\\\\\x80\\x81";
+  for(const std::vector<std::string>& args : {std::vector<std::string>{cactus, "garbage.sel", def, "-o", "out.off"},
+                                              std::vector<std::string>{cactus, sel, "garbage.def", "-o", "out.off"}})
+  {
+    const Tool_result r = run(args);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(printable(r.err)) << r.err;
+    EXPECT_NE(r.err.find(shown), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("... (" + std::to_string(garbage.size()) + " bytes)"), std::string::npos) << r.err;
+    EXPECT_LT(r.err.size(), 400u) << r.err;
+  }
+  const Tool_result r = run({cactus, "garbage.sel", def, "-o", "out.off"});
+  EXPECT_NE(r.err.find("bad selection 'garbage.sel': line 3: expected one status 0, 1 or 2, got '"), std::string::npos)
+      << r.err;
 }
 
 } // namespace

@@ -11,11 +11,13 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -382,6 +384,255 @@ TEST(BadInput, C13_TinyCoordinates)
   });
 }
 
+typedef LD::Mesh_deformer<Surface_mesh, LD::Edge_based_representation, LD::Uniform_weights, LD::Rotation_transform,
+                          CGAL::Default, CGAL::Default, CGAL::Sequential_tag> Edge_uniform_rotation;
+typedef LD::Mesh_deformer<Surface_mesh, LD::Vertex_based_representation, LD::Uniform_weights, LD::Rotation_transform,
+                          CGAL::Default, CGAL::Default, CGAL::Sequential_tag> Vertex_uniform_rotation;
+
+// the patch scaled by `scale`, its centre pulled by (0.1, 0, 0.3) * scale, deform(6, 1e-4)
+struct Scaled_run
+{
+  LD::Deformation_result result;
+  std::vector<Point_3> points;     // divided by the scale
+  bool unchanged = false;          // the mesh is bitwise as before
+};
+template <class D>
+Scaled_run scaled_run(double scale)
+{
+  Patch patch(scale);
+  const Snapshot before(patch.mesh);
+  D d(patch.mesh);
+  patch.select(d);
+  const Point_3 p = patch.mesh.point(patch.center);
+  d.set_target_position(patch.center, Point_3(p.x() + 0.1 * scale, p.y(), p.z() + 0.3 * scale));
+  Scaled_run run;
+  run.result = d.deform(6, 1e-4);
+  run.unchanged = Snapshot(patch.mesh) == before;
+  for(vertex_descriptor v : patch.mesh.vertices())
+    run.points.push_back(Point_3(patch.mesh.point(v).x() / scale, patch.mesh.point(v).y() / scale,
+                                 patch.mesh.point(v).z() / scale));
+  return run;
+}
+
+TEST(BadInput, C36_ExtremeScales)
+{
+  // every decade from 1e-300 to 1e300: either the unit-scale result times the scale (same
+  // iterations, relative error below 1e-9 of the patch's diagonal) or a documented failure that
+  // writes nothing. Uniform weights must succeed at every scale (their operator does not
+  // depend on the scale); cotangent weights scale like 1/scale^2 and vanish (or overflow)
+  // far from 1, which must be reported as a zero or non-finite operator, never as a success.
+  auto sweep = [](auto* tag, bool uniform, const char* name) {
+    typedef std::remove_pointer_t<decltype(tag)> D;
+    const Scaled_run unit = scaled_run<D>(1.);
+    ASSERT_TRUE(unit.result) << unit.result.message;
+    ASSERT_GE(unit.result.iterations, 2u);
+    const double diagonal = std::sqrt(2.);
+    double worst = 0;
+    int lowest = 0, highest = 0, successes = 0;
+    for(int e = -300; e <= 300; ++e)
+    {
+      const double scale = std::stod("1e" + std::to_string(e));
+      const Scaled_run run = scaled_run<D>(scale);
+      if(run.result)
+      {
+        EXPECT_EQ(run.result.iterations, unit.result.iterations) << name << " scale " << scale;
+        double error = 0;
+        for(std::size_t i = 0; i < run.points.size(); ++i)
+          error = (std::max)(error, internal::point_distance(run.points[i], unit.points[i]) / diagonal);
+        EXPECT_LE(error, 1e-9) << name << " scale " << scale;
+        worst = (std::max)(worst, error);
+        ++successes;
+        lowest = (std::min)(lowest, e);
+        highest = (std::max)(highest, e);
+      }
+      else
+      {
+        EXPECT_FALSE(uniform) << name << " scale " << scale << ": " << run.result.message;
+        EXPECT_TRUE(run.unchanged) << name << " scale " << scale;
+        const bool zero = run.result.status == LD::UNANCHORED_REGION &&
+                          run.result.message.find("Laplacian operator is zero") != std::string::npos;
+        const bool not_finite = run.result.status == LD::NON_FINITE_INPUT &&
+                                run.result.message.find("Laplacian operator is not finite") != std::string::npos;
+        const bool squares = run.result.status == LD::FACTORIZATION_FAILED &&
+                             (run.result.message.find("normal matrix overflows") != std::string::npos ||
+                              run.result.message.find("normal matrix underflows") != std::string::npos);
+        EXPECT_TRUE(zero || not_finite || squares) << name << " scale " << scale << ": status " << run.result.status
+                                        << " '" << run.result.message << "'";
+      }
+    }
+    EXPECT_EQ(successes, highest - lowest + 1) << name << ": the successful scales are not one range";
+    std::cout << name << ": success from 1e" << lowest << " to 1e" << highest << ", largest relative error "
+              << worst << std::endl;
+  };
+  sweep(static_cast<Edge_uniform*>(nullptr), true, "edge, uniform, S*R1");
+  sweep(static_cast<Vertex_uniform*>(nullptr), true, "vertex, uniform, S*R1");
+  sweep(static_cast<Edge_uniform_rotation*>(nullptr), true, "edge, uniform, rotation");
+  sweep(static_cast<Vertex_uniform_rotation*>(nullptr), true, "vertex, uniform, rotation");
+  sweep(static_cast<Edge_cotangent*>(nullptr), false, "edge, cotangent, S*R1");
+  sweep(static_cast<Vertex_cotangent*>(nullptr), false, "vertex, cotangent, S*R1");
+}
+
+// a transform policy whose fit is never finite
+struct Nan_transform
+{
+  Eigen::Matrix3d transform(const LD::Transform_cell&) const { return Eigen::Matrix3d::Constant(nan_value); }
+};
+
+TEST(BadInput, C37_NonFiniteTransformFit)
+{
+  // a fit that is not finite fails the call (it used to be replaced by the identity silently)
+  typedef LD::Mesh_deformer<Surface_mesh, LD::Vertex_based_representation, LD::Uniform_weights, Nan_transform,
+                            CGAL::Default, CGAL::Default, CGAL::Sequential_tag> D;
+  Patch patch;
+  D d(patch.mesh);
+  patch.select(d);
+  d.set_target_position(patch.center, shifted(patch.mesh.point(patch.center), 0, 0, 0.2));
+  ASSERT_TRUE(succeeded_finite(d.deform(1, 0), patch.mesh));    // the first iteration uses T = I
+  const Snapshot before(patch.mesh);
+  EXPECT_TRUE(failed_cleanly(d.deform(2, 0), LD::NON_FINITE_RESULT, "transform fit", before, patch.mesh));
+}
+
+// the faces with a vertex in `roi` whose normal turned by more than 90 degrees from `rest`
+std::size_t folded_faces(const Surface_mesh& rest, const Surface_mesh& now, const std::vector<vertex_descriptor>& roi)
+{
+  std::size_t folded = 0;
+  for(face_descriptor f : now.faces())
+  {
+    std::vector<vertex_descriptor> v;
+    for(vertex_descriptor w : CGAL::vertices_around_face(halfedge(f, now), now))
+      v.push_back(w);
+    if(std::none_of(v.begin(), v.end(), [&](vertex_descriptor w) { return std::find(roi.begin(), roi.end(), w) != roi.end(); }))
+      continue;
+    auto normal = [&](const Surface_mesh& m) { return CGAL::cross_product(m.point(v[1]) - m.point(v[0]), m.point(v[2]) - m.point(v[0])); };
+    folded += normal(rest) * normal(now) < 0;
+  }
+  return folded;
+}
+
+TEST(BadInput, C38_FoldedFaces)
+{
+  // the centre of the patch dragged far sideways, past its neighbours, with a one-ring region of
+  // interest: the faces around it fold over; a success with a FOLDED_FACES warning that counts them
+  for_each_combination([&](auto* tag) {
+    typedef std::remove_pointer_t<decltype(tag)> D;
+    Patch patch;
+    const Surface_mesh rest = patch.mesh;
+    D d(patch.mesh);
+    std::vector<vertex_descriptor> roi{patch.center};
+    for(vertex_descriptor w : CGAL::vertices_around_target(halfedge(patch.center, patch.mesh), patch.mesh))
+      roi.push_back(w);
+    d.insert_roi_vertices(roi.begin(), roi.end());
+    d.insert_control_vertex(patch.center);
+    ASSERT_TRUE(d.preprocess());
+    EXPECT_TRUE(d.last_result().warnings.empty()) << d.last_result().warnings.front().message;
+    d.set_target_position(patch.center, shifted(patch.mesh.point(patch.center), 0.4, 0.1, 0));
+    const LD::Deformation_result r = d.deform(4, 0);
+    EXPECT_TRUE(succeeded_finite(r, patch.mesh));
+    const std::size_t expected = folded_faces(rest, patch.mesh, roi);
+    EXPECT_GT(expected, 0u);
+    ASSERT_NE(r.warning(LD::FOLDED_FACES), nullptr);
+    EXPECT_EQ(r.warning(LD::FOLDED_FACES)->count, expected);
+    EXPECT_NE(r.warning(LD::FOLDED_FACES)->message.find("turned by more than 90 degrees"), std::string::npos);
+    EXPECT_EQ(r.warning(LD::NO_MOTION), nullptr);
+    // a small motion folds nothing: no warning at all
+    d.reset();
+    d.set_target_position(patch.center, shifted(patch.mesh.point(patch.center), 0, 0, 0.02));
+    const LD::Deformation_result small = d.deform(4, 0);
+    EXPECT_TRUE(succeeded_finite(small, patch.mesh));
+    EXPECT_TRUE(small.warnings.empty()) << small.warnings.front().message;
+  });
+}
+
+TEST(BadInput, C39_HandleTouchesFixedVertices)
+{
+  // a control next to the fixed border: warned at preprocess() and by every deform(), still a success
+  for_each_combination([&](auto* tag) {
+    typedef std::remove_pointer_t<decltype(tag)> D;
+    Patch patch;
+    D d(patch.mesh);
+    d.insert_roi_vertices(patch.roi.begin(), patch.roi.end());
+    const vertex_descriptor near_border(1 * 9 + 1), inside(4 * 9 + 4);
+    d.insert_control_vertex(near_border);
+    d.insert_control_vertex(inside);
+    ASSERT_TRUE(d.preprocess());
+    ASSERT_NE(d.last_result().warning(LD::HANDLE_TOUCHES_FIXED), nullptr);
+    EXPECT_EQ(d.last_result().warning(LD::HANDLE_TOUCHES_FIXED)->count, 1u);
+    d.set_target_position(near_border, shifted(patch.mesh.point(near_border), 0, 0, 0.3));
+    const LD::Deformation_result r = d.deform(3, 0);
+    EXPECT_TRUE(succeeded_finite(r, patch.mesh));
+    ASSERT_NE(r.warning(LD::HANDLE_TOUCHES_FIXED), nullptr);
+    EXPECT_EQ(r.warning(LD::HANDLE_TOUCHES_FIXED)->count, 1u);
+    EXPECT_NE(r.warning(LD::HANDLE_TOUCHES_FIXED)->message.find("adjacent to fixed vertices"), std::string::npos);
+    // the default patch's centre control is two rings away from the border: no warning
+    Patch other;
+    D e(other.mesh);
+    other.select(e);
+    ASSERT_TRUE(e.preprocess());
+    EXPECT_EQ(e.last_result().warning(LD::HANDLE_TOUCHES_FIXED), nullptr);
+  });
+}
+
+TEST(BadInput, C40_NoMotion)
+{
+  for_each_combination([&](auto* tag) {
+    typedef std::remove_pointer_t<decltype(tag)> D;
+    Patch patch;
+    const Snapshot rest(patch.mesh);
+    {
+      // targets left at their rest positions (a single handle rotated about itself is the same)
+      D d(patch.mesh);
+      patch.select(d);
+      const Eigen::Quaterniond turn(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()));
+      const Point_3 c = patch.mesh.point(patch.center);
+      d.rotate(patch.center, Eigen::Vector3d(c.x(), c.y(), c.z()), turn);
+      const LD::Deformation_result r = d.deform(3, 0);
+      EXPECT_TRUE(succeeded_finite(r, patch.mesh));
+      ASSERT_NE(r.warning(LD::NO_MOTION), nullptr);
+      EXPECT_EQ(r.warning(LD::NO_MOTION)->count, 1u);
+      EXPECT_NE(r.warning(LD::NO_MOTION)->message.find("moves nothing"), std::string::npos);
+      // a real motion: no such warning
+      d.translate(patch.center, Eigen::Vector3d(0, 0, 0.05));
+      EXPECT_EQ(d.deform(3, 0).warning(LD::NO_MOTION), nullptr);
+      d.reset();
+    }
+    {
+      // no control at all (the border holds the region): the solution is the rest shape
+      D d(patch.mesh);
+      d.insert_roi_vertices(patch.roi.begin(), patch.roi.end());
+      const LD::Deformation_result r = d.deform(2, 0);
+      EXPECT_TRUE(succeeded_finite(r, patch.mesh));
+      ASSERT_NE(r.warning(LD::NO_MOTION), nullptr);
+      EXPECT_EQ(r.warning(LD::NO_MOTION)->count, 0u);
+    }
+  });
+}
+
+TEST(BadInput, C41_ZeroLaplacianOperator)
+{
+  // every point on one line: each triangle is degenerate, every cotangent weight is zero and the
+  // operator vanishes at the free vertices; the status says so (it used to blame a part of the
+  // region that "touches no fixed or control vertex", which it does)
+  auto check = [](auto* tag) {
+    typedef std::remove_pointer_t<decltype(tag)> D;
+    Soup s = grid_soup(6, 2);
+    for(auto& p : s.points)
+      p = {{p[0] + 0.37 * p[1], 0., 0.}};
+    Surface_mesh m = to_mesh<Surface_mesh>(s);
+    D d(m);
+    for(vertex_descriptor v : m.vertices())
+      if(!CGAL::is_border(v, m))
+        d.insert_roi_vertex(v);
+    d.insert_control_vertex(vertex_descriptor(7 + 3));
+    d.set_target_position(vertex_descriptor(7 + 3), shifted(m.point(vertex_descriptor(7 + 3)), 0, 0, 1));
+    const Snapshot before(m);
+    EXPECT_TRUE(failed_cleanly(d.deform(2, 0), LD::UNANCHORED_REGION, "the Laplacian operator is zero at 4 free vertices",
+                               before, m));
+    EXPECT_NE(d.last_result().message.find("every weight of their cells vanishes"), std::string::npos);
+  };
+  check(static_cast<Edge_cotangent*>(nullptr));
+  check(static_cast<Vertex_cotangent*>(nullptr));
+}
+
 TEST(BadInput, C14_SeveralComponents)
 {
   // ROI and control on the first sphere only: the second one is not touched
@@ -601,10 +852,12 @@ TEST(BadInput, C23_NegativeOrNanTolerance)
     patch.select(d);
     d.set_target_position(patch.center, shifted(patch.mesh.point(patch.center), 0, 0, 0.2));
     const Snapshot before(patch.mesh);
-    for(double tolerance : {-1e-4, -inf_value, nan_value})
+    for(double tolerance : {-1e-4, -inf_value, inf_value, nan_value})
       EXPECT_TRUE(failed_cleanly(d.deform(3, tolerance), LD::INVALID_PARAMETER, "tolerance", before, patch.mesh));
     d.set_tolerance(-1);
     EXPECT_TRUE(failed_cleanly(d.deform(), LD::INVALID_PARAMETER, "tolerance", before, patch.mesh));
+    d.set_tolerance(inf_value);
+    EXPECT_TRUE(failed_cleanly(d.deform(), LD::INVALID_PARAMETER, "non-negative and finite", before, patch.mesh));
   });
 }
 

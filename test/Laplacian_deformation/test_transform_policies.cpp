@@ -689,3 +689,25 @@ TEST(TransformPolicies, FastClosestRotationMatchesSvd)
   std::cout << "[measured] fast vs SVD closest rotation, worst Frobenius difference " << worst << "\n";
   EXPECT_LE(worst, 1e-11);
 }
+
+// The closest rotation does not depend on the magnitude of S: S^T S used to underflow below
+// about 1e-154 (the identity came back) and overflow above 1e154 (S is a sum of products of two
+// edge vectors, so that is coordinates beyond 1e+-77). Powers of two give bitwise the same
+// rotation; powers of ten the same up to round-off.
+TEST(TransformPolicies, FastClosestRotationIsScaleInvariant)
+{
+  using LD::internal::closest_rotation;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for(int k = 0; k < 200; ++k)
+  {
+    Eigen::Matrix3d m;
+    for(int i = 0; i < 9; ++i)
+      m(i / 3, i % 3) = u(rng);
+    const Eigen::Matrix3d r = closest_rotation(m);
+    for(int e : {-1000, -600, -300, 300, 600, 1000})
+      EXPECT_TRUE(closest_rotation(std::ldexp(1., e) * m) == r) << "2^" << e << ", case " << k;
+    for(double scale : {1e-300, 1e-250, 1e-200, 1e-160, 1e-100, 1e100, 1e160, 1e200, 1e250, 1e300})
+      EXPECT_LE((closest_rotation(scale * m) - r).norm(), 1e-12) << "scale " << scale << ", case " << k;
+  }
+}

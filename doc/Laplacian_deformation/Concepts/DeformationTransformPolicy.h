@@ -19,8 +19,17 @@ deformer's `ConcurrencyTag` allows it: `transform()` is `const` and must be safe
 concurrently. It is default-constructed once per deformer and should be stateless (an instance
 passed to `deform_mesh()` only selects the type); it need not be copyable or assignable, and it
 reads the cell only through the documented members of `Transform_cell`. The first iteration after `preprocess()` or
-`reset()` does not call it (it uses `T_a = I`). A returned matrix that is not finite is replaced
-by the identity. The map need not be a rotation, but the fit is to the cell, not to the
+`reset()` does not call it (it uses `T_a = I`). A returned matrix that is not finite makes
+`deform()` fail with `NON_FINITE_RESULT` (nothing is written).
+
+<b>Scale.</b> The deformer passes every cell with its rest and current edge vectors multiplied by
+one power of two (exact in floating point) that brings their largest coordinate close to 1, so
+that products and squares of edge vectors neither overflow nor underflow whatever the size of
+the model (1e-300 to 1e300). `T_a` must therefore not depend on a common positive scaling of the
+edge vectors, as the package's policies do not (a rotation, and scales that are ratios); the
+weights are passed unchanged.
+
+The map need not be a rotation, but the fit is to the cell, not to the
 Laplacian energy, so the energy is not guaranteed to decrease from one iteration to the next.
 
 \cgalRefines{DefaultConstructible}

@@ -59,8 +59,11 @@ displacement of an iteration, relative to the ROI's bounding-box diagonal, is at
 
 A failed `preprocess()` or `deform()` leaves the mesh exactly as it was; its reason is in
 `last_result()`. A vertex descriptor that is not a vertex of the mesh (its index is not below
-`num_vertices(tm)`, for example `null_vertex()`) is never stored: the insertion returns `false`
-and the next `preprocess()` or `deform()` fails with `INVALID_PARAMETER`.
+`num_vertices(tm)`, for example `null_vertex()`, or it is a vertex of another mesh: the deformer
+keeps the mesh's descriptors by index, built at construction, and checks that the index of `v`
+names `v` itself) is never stored: the insertion returns `false` and the next `preprocess()` or
+`deform()` fails with `INVALID_PARAMETER`. (With index descriptors, as `Surface_mesh`'s, a vertex of
+another mesh whose index is in range is indistinguishable from the vertex of this mesh with that index.)
 
 \tparam TriangleMesh a model of `FaceGraph`; its faces may be polygons (see \ref LapDefPolygons)
 \tparam Representation a model of `DeformationRepresentation`; `CGAL::Default`: `Edge_based_representation`
@@ -110,6 +113,10 @@ public:
       m_rotation_known(m_number_of_vertices, 0)
   {
     m_rest = internal::vertex_positions(m_tm, m_vpm, m_vim);
+    m_vertex_at_index.resize(m_number_of_vertices);
+    for(vertex_descriptor v : vertices(m_tm))
+      if(index(v) < m_number_of_vertices)
+        m_vertex_at_index[index(v)] = v;
   }
   Mesh_deformer(const Mesh_deformer&) = delete;
   Mesh_deformer& operator=(const Mesh_deformer&) = delete;
@@ -279,7 +286,8 @@ public:
   double soft_constraint_weight() const { return m_soft_weight; }
   /// the number of iterations of `deform()` (default 5).
   void set_iterations(unsigned int iterations) { m_iterations = iterations; }
-  /// the relative change below which `deform()` stops early (default 1e-4).
+  /// the relative change below which `deform()` stops early (default 1e-4); a negative, infinite or
+  /// NaN tolerance makes `deform()` fail with `INVALID_PARAMETER`.
   void set_tolerance(double tolerance) { m_tolerance = tolerance; }
   /// the number of iterations of `deform()`.
   unsigned int iterations() const { return m_iterations; }
@@ -348,6 +356,8 @@ public:
     m_field_ready = false;
     if(uses_start() && m_start == ROTATION_START && !build_start_field())
       return false;
+    prepare_checks();
+    m_last.warnings = m_preprocess_warnings;
     m_last.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return true;
   }
@@ -359,14 +369,15 @@ public:
   Deformation_result deform(unsigned int iterations, double tolerance)
   {
     const auto t0 = std::chrono::steady_clock::now();
-    if(!(tolerance >= 0))
-      return fail(INVALID_PARAMETER, "the tolerance must be non-negative"), m_last;
+    if(!(tolerance >= 0 && tolerance < HUGE_VAL))
+      return fail(INVALID_PARAMETER, "the tolerance must be non-negative and finite"), m_last;
     if(m_need_preprocess || !check_topology())
       if(!prepare())
         return m_last;
     if(iterations == 0)
     {
       m_last = Deformation_result();
+      m_last.warnings = m_preprocess_warnings;
       m_last.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       return m_last;
     }
@@ -387,6 +398,7 @@ public:
       for(vertex_descriptor v : m_roi)
         put_position(v, p[index(v)], true);
       restore_vertices_outside_roi();
+      add_warnings(p);
     }
     m_last.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return m_last;
@@ -556,9 +568,12 @@ private:
     });
     return true;
   }
+  // a vertex of this mesh: its index is in range and names `v` itself (an index map may return
+  // a valid index for a foreign key, e.g. 0 for a vertex of another Polyhedron_3)
   bool is_vertex(vertex_descriptor v) const
   {
-    return v != boost::graph_traits<TriangleMesh>::null_vertex() && index(v) < m_number_of_vertices;
+    return v != boost::graph_traits<TriangleMesh>::null_vertex() && index(v) < m_number_of_vertices &&
+           m_vertex_at_index[index(v)] == v;
   }
   static Eigen::Vector3d to_vector(const Point& p)
   {
@@ -680,6 +695,97 @@ private:
     m_rigid_built_weight = m_rigidity_weight;
     m_rigid_ready = true;
   }
+  // at preprocess: the controls adjacent to fixed vertices (a warning), and the faces with a
+  // vertex in the ROI, with their rest normals (for the folded-face check of deform())
+  void prepare_checks()
+  {
+    m_preprocess_warnings.clear();
+    std::size_t touching = 0;
+    for(vertex_descriptor v : m_roi)
+    {
+      if(!m_is_control[index(v)] || halfedge(v, m_tm) == boost::graph_traits<TriangleMesh>::null_halfedge())
+        continue;
+      for(vertex_descriptor w : vertices_around_target(halfedge(v, m_tm), m_tm))
+        if(m_role[index(w)] == internal::FIXED_VERTEX)
+        {
+          ++touching;
+          break;
+        }
+    }
+    if(touching > 0)
+      m_preprocess_warnings.push_back({HANDLE_TOUCHES_FIXED, touching, std::to_string(touching) +
+          " control vertices are adjacent to fixed vertices (no free vertex between them): moving them "
+          "stretches the edges to the fixed part into a thin tongue; grow the region of interest around them"});
+    m_face_start.assign(1, 0);
+    m_face_vertex.clear();
+    m_rest_normals.clear();
+    for(auto f : faces(m_tm))
+    {
+      bool in_region = false;
+      for(vertex_descriptor v : vertices_around_face(halfedge(f, m_tm), m_tm))
+      {
+        m_face_vertex.push_back(index(v));
+        in_region = in_region || m_role[index(v)] != internal::FIXED_VERTEX;
+      }
+      if(!in_region)
+        m_face_vertex.resize(m_face_start.back());
+      else
+      {
+        m_face_start.push_back(m_face_vertex.size());
+        m_rest_normals.push_back(face_normal(m_rest, m_rest_normals.size()));
+      }
+    }
+  }
+  // the (unnormalised) normal of the k-th ROI face at positions `p`, Newell-like from its first
+  // vertex, on edge vectors scaled by a power of two (no overflow or underflow at any model size)
+  Eigen::Vector3d face_normal(const std::vector<Eigen::Vector3d>& p, std::size_t k) const
+  {
+    const std::size_t first = m_face_start[k], end = m_face_start[k + 1];
+    const Eigen::Vector3d& o = p[m_face_vertex[first]];
+    double largest = 0;
+    for(std::size_t i = first + 1; i < end; ++i)
+      largest = (std::max)(largest, (p[m_face_vertex[i]] - o).cwiseAbs().maxCoeff());
+    const double unit = internal::normalizing_power_of_two(largest);
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for(std::size_t i = first + 1; i + 1 < end; ++i)
+      n += (unit * (p[m_face_vertex[i]] - o)).cross(unit * (p[m_face_vertex[i + 1]] - o));
+    return n;
+  }
+  // after a successful deform(): folded faces, the preprocess warnings, no motion
+  void add_warnings(const std::vector<Eigen::Vector3d>& p)
+  {
+    std::vector<Deformation_warning>& w = m_last.warnings;
+    std::size_t folded = 0;
+    for(std::size_t k = 0; k < m_rest_normals.size(); ++k)
+      folded += m_rest_normals[k].dot(face_normal(p, k)) < 0;
+    if(folded > 0)
+      w.push_back({FOLDED_FACES, folded, std::to_string(folded) + " of the " + std::to_string(m_rest_normals.size()) +
+          " faces of the region of interest turned by more than 90 degrees from their rest orientation "
+          "(the surface folded over itself, e.g. a spike at a handle): grow the region of interest or move "
+          "the handles less"});
+    w.insert(w.end(), m_preprocess_warnings.begin(), m_preprocess_warnings.end());
+    const double unit = internal::normalizing_power_of_two(m_diagonal), threshold = 1e-12 * unit * m_diagonal;
+    std::size_t controls = 0;
+    double target_move = 0, solution_move = 0;
+    for(vertex_descriptor v : m_roi)
+    {
+      const std::size_t i = index(v);
+      solution_move = (std::max)(solution_move, (unit * (p[i] - m_rest[i])).norm());
+      if(m_is_control[i])
+      {
+        ++controls;
+        target_move = (std::max)(target_move, (unit * (to_vector(m_target[i]) - m_rest[i])).norm());
+      }
+    }
+    if(controls == 0)
+      w.push_back({NO_MOTION, 0, "there is no control vertex: the region of interest stays at its rest shape"});
+    else if(target_move <= threshold)
+      w.push_back({NO_MOTION, controls, "every control vertex's target is its rest position: the deformation "
+                                        "moves nothing (give the handles a translation, or rotate several of them)"});
+    else if(solution_move <= threshold)
+      w.push_back({NO_MOTION, controls, "the solution is the rest shape: no vertex moved by more than 1e-12 of "
+                                        "the region of interest's diagonal"});
+  }
   double region_diagonal() const
   {
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
@@ -688,7 +794,9 @@ private:
       lo = lo.cwiseMin(m_rest[index(v)]);
       hi = hi.cwiseMax(m_rest[index(v)]);
     }
-    return (hi - lo).norm();
+    // scaled by a power of two (exact), so that the norm neither overflows nor underflows
+    const double unit = internal::normalizing_power_of_two((hi - lo).maxCoeff());
+    return (unit * (hi - lo)).norm() / unit;
   }
 
   Triangle_mesh& m_tm;
@@ -697,6 +805,10 @@ private:
   std::size_t m_number_of_vertices, m_number_of_edges;
   std::vector<Eigen::Vector3d> m_rest;
   std::vector<vertex_descriptor> m_roi;
+  std::vector<vertex_descriptor> m_vertex_at_index;   // the mesh's vertices by index, for is_vertex()
+  std::vector<Deformation_warning> m_preprocess_warnings;
+  std::vector<std::size_t> m_face_start, m_face_vertex;   // the faces with a vertex in the ROI
+  std::vector<Eigen::Vector3d> m_rest_normals;             // and their rest normals
   std::vector<unsigned char> m_is_roi, m_is_control, m_moved, m_role;
   std::vector<Point> m_target;
   std::optional<Nodes> m_nodes;

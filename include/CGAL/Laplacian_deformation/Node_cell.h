@@ -70,7 +70,9 @@ private:
 \brief The cell of one node, as seen by a transform policy: for each spoke `(a, b)`, the rest
 edge vector `e_ab = x_a - x_b`, the current one <code>e'_ab</code>, and the fit weight `c_ab = max(w_ab, 0)`.
 
-A read-only view over the deformer's arrays.
+A read-only view over the deformer's arrays. `Mesh_deformer` scales the rest and current edge
+vectors of a cell by one power of two, so that their largest coordinate is close to 1 (see
+`DeformationTransformPolicy`); the weights are not scaled.
 */
 class Transform_cell
 {

@@ -26,13 +26,40 @@ namespace IO {
 */
 enum Botsch08_status { BOTSCH08_FIXED = 0, BOTSCH08_REGION_OF_INTEREST = 1, BOTSCH08_HANDLE = 2 };
 
+namespace internal {
+
+// `text` between single quotes, safe to print: bytes below 0x20 or above 0x7e as \xNN, a quote or
+// a backslash escaped; only the first `max_length` bytes, then "..." and the length
+inline std::string quoted_excerpt(const std::string& text, std::size_t max_length = 40)
+{
+  static const char hex[] = "0123456789abcdef";
+  std::string q = "'";
+  for(std::size_t i = 0; i < text.size() && i < max_length; ++i)
+  {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if(c == '\'' || c == '\\')
+      q += '\\', q += char(c);
+    else if(c < 0x20 || c > 0x7e)
+      q += "\\x", q += hex[c >> 4], q += hex[c & 15];
+    else
+      q += char(c);
+  }
+  q += '\'';
+  if(text.size() > max_length)
+    q += "... (" + std::to_string(text.size()) + " bytes)";
+  return q;
+}
+
+} // namespace internal
+
 /*!
 \ingroup PkgLaplacianDeformationIO
 \brief reads a Botsch08 selection (`.sel`, the format of CGAL's
 `deform_mesh_for_botsch08_format` example): one status per vertex, in the mesh's vertex order,
 `0` fixed, `1` region of interest, `2` handle; lines starting with `#` are comments.
 
-Returns `false` and explains in `error` (with the line number) if a line holds anything but one
+Returns `false` and explains in `error` (with the line number and the offending line, quoted with
+non-printable bytes escaped as `\xNN` and cut after 40 bytes) if a line holds anything but one
 of `0`, `1`, `2`, or if `expected_count` (when not `0`) differs from the number of statuses;
 `status` is then left unchanged.
 */
@@ -49,7 +76,7 @@ inline bool read_botsch08_selection(std::istream& in, std::vector<int>& status_o
       continue;
     if((token != "0" && token != "1" && token != "2") || (tokens >> extra))
     {
-      error = "line " + std::to_string(number) + ": expected one status 0, 1 or 2, got '" + line + "'";
+      error = "line " + std::to_string(number) + ": expected one status 0, 1 or 2, got " + internal::quoted_excerpt(line);
       return false;
     }
     status.push_back(token[0] - '0');
@@ -70,7 +97,8 @@ inline bool read_botsch08_selection(std::istream& in, std::vector<int>& status_o
 sixteen finite numbers, the 4x4 matrix row by row, whose last row must be `0 0 0 1`
 (an affine map) and whose linear part (the upper-left 3x3 block) must be invertible: its
 determinant, once the block is divided by its root-mean-square column length, must exceed `1e-12`.
-Returns `false` and explains in `error` otherwise; `transform` is then left unchanged.
+Returns `false` and explains in `error` otherwise (an offending token is quoted like the lines of
+`read_botsch08_selection()`); `transform` is then left unchanged.
 */
 inline bool read_botsch08_transform(std::istream& in, Eigen::Matrix4d& transform_out, std::string& error)
 {
@@ -96,14 +124,14 @@ inline bool read_botsch08_transform(std::istream& in, Eigen::Matrix4d& transform
     try { value = std::stod(token, &used); } catch(...) { used = 0; }
     if(used != token.size() || !std::isfinite(value))
     {
-      error = "entry " + std::to_string(k + 1) + " of the matrix is not a finite number: '" + token + "'";
+      error = "entry " + std::to_string(k + 1) + " of the matrix is not a finite number: " + internal::quoted_excerpt(token);
       return false;
     }
     transform(k / 4, k % 4) = value;
   }
   if(numbers >> token)
   {
-    error = "more than 16 numbers: '" + token + "'";
+    error = "more than 16 numbers: " + internal::quoted_excerpt(token);
     return false;
   }
   if(transform.row(3) != Eigen::RowVector4d(0, 0, 0, 1))

@@ -9,6 +9,7 @@
 #include <CGAL/Laplacian_deformation/Least_squares_solver.h>
 #include <CGAL/Laplacian_deformation/Node_cell.h>
 #include <CGAL/Laplacian_deformation/internal/Laplacian_stencils.h>
+#include <CGAL/Laplacian_deformation/internal/closest_rotation_3.h>
 #include <CGAL/Laplacian_deformation/internal/parallel.h>
 
 #include <CGAL/tags.h>
@@ -19,6 +20,7 @@
 #include <Eigen/SparseCore>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -129,6 +131,8 @@ public:
     std::vector<char> row_has_known(m_rows.size(), 0);
     Union_find components(m_unknowns.size());
     double sum_squares = 0;
+    std::vector<double> column_squares(m_unknowns.size(), 0.);   // the diagonal of A^T A
+    bool operator_finite = true;
     {
       std::vector<int> next_a(a_outer.begin(), a_outer.end() - 1), next_k(k_outer.begin(), k_outer.end() - 1);
       for(std::size_t r = 0; r < m_rows.size(); ++r)
@@ -144,6 +148,8 @@ public:
             m_a.innerIndexPtr()[k] = int(r);
             m_a.valuePtr()[k] = it.value();
             sum_squares += it.value() * it.value();
+            column_squares[std::size_t(j)] += it.value() * it.value();
+            operator_finite = operator_finite && std::isfinite(it.value());
             if(first < 0)
               first = j;
             else
@@ -175,10 +181,43 @@ public:
     if(result.unanchored_size > 0)
     {
       result.status = UNANCHORED_REGION;
-      result.message = "a connected part of " + std::to_string(result.unanchored_size) +
-                       " free vertices touches no fixed or control vertex: the system is singular";
+      // free vertices without any entry in D although they belong to a node with neighbours:
+      // every weight of their cells vanished (D drops exact zeros)
+      std::vector<char> in_stencil(n, 0);
+      for(std::size_t a = 0; a < s.number_of_nodes; ++a)
+        if(s.degree(a) > 0)
+          for(std::size_t k = s.combination_start[a]; k < s.combination_start[a + 1]; ++k)
+            in_stencil[s.combination_vertex[k]] = 1;
+      std::size_t zero = 0;
+      for(std::size_t j = 0; j < m_unknowns.size(); ++j)
+        zero += role[m_unknowns[j]] == FREE_VERTEX && in_stencil[m_unknowns[j]] &&
+                a_outer[j + 1] == a_outer[j];
+      if(zero > 0)
+        result.message = "the Laplacian operator is zero at " + std::to_string(zero) +
+                         " free vertices: every weight of their cells vanishes (collinear or degenerate "
+                         "cells, or coordinates too large or too small for the weight policy: cotangent "
+                         "weights underflow beyond about 1e+-75), so nothing determines them: the system is singular";
+      else
+        result.message = "a connected part of " + std::to_string(result.unanchored_size) +
+                         " free vertices touches no fixed or control vertex: the system is singular";
       return result;
     }
+    // weights far from 1 (cotangent weights scale like 1 / length^2) overflow or underflow when
+    // squared: the diagonal of A^T A must be finite, and positive in every non-empty column
+    for(std::size_t j = 0; operator_finite && j < m_unknowns.size(); ++j)
+      if(!(column_squares[j] < HUGE_VAL) ||
+         (column_squares[j] == 0 && a_outer[j + 1] > a_outer[j] + int(role[m_unknowns[j]] == SOFT_CONTROL_VERTEX)))
+      {
+        result.status = FACTORIZATION_FAILED;
+        result.message = column_squares[j] == 0
+                             ? "the normal matrix underflows: the Laplacian weights are too small to be squared "
+                               "(coordinates too large for the weight policy: cotangent weights decrease like "
+                               "1 / length^2)"
+                             : "the normal matrix overflows: the Laplacian weights are too large to be squared "
+                               "(coordinates too small for the weight policy: cotangent weights grow like "
+                               "1 / length^2)";
+        return result;
+      }
 
     // soft rows lambda (p_c - t_c), lambda^2 = soft_weight * mean diagonal of A^T A: the last
     // entry of each soft control's column
@@ -193,7 +232,8 @@ public:
     {
       result.status = m_solver.info() == m_solver.NOT_FINITE ? NON_FINITE_INPUT : FACTORIZATION_FAILED;
       result.message = m_solver.info() == m_solver.NOT_FINITE
-                           ? "the Laplacian operator is not finite (NaN or infinite rest positions)"
+                           ? "the Laplacian operator is not finite: a weight is NaN or infinite "
+                             "(the weight policy failed on the rest positions)"
                            : "the normal matrix could not be factored (numerically singular)";
       return result;
     }
@@ -263,9 +303,15 @@ public:
     for(std::size_t iteration = 0; iteration < iterations; ++iteration)
     {
       Clock::time_point t0 = Clock::now();
-      if(m_has_solution)
-        local_step(current);
+      const std::size_t failed_fits = m_has_solution ? local_step(current) : 0;
       result.local_step_seconds += seconds_since(t0);
+      if(failed_fits > 0)
+      {
+        result.status = NON_FINITE_RESULT;
+        result.message = "the transform fit of " + std::to_string(failed_fits) +
+                         " node(s) is not finite (NaN or infinity); nothing was written";
+        return result;
+      }
       t0 = Clock::now();
       right_hand_side(b, rhs);
       result.right_hand_side_seconds += seconds_since(t0);
@@ -279,17 +325,19 @@ public:
                                                             : "the back-substitution failed; nothing was written";
         return result;
       }
+      // displacements scaled by a power of two (exact): their norms neither overflow nor underflow
+      const double unit = normalizing_power_of_two(diagonal);
       double change = 0;
       for(Eigen::Index j = 0; j < nu; ++j)
       {
         Eigen::Vector3d& p = current[m_unknowns[std::size_t(j)]];
-        change = (std::max)(change, (x.row(j).transpose() - p).norm());
+        change = (std::max)(change, (unit * (x.row(j).transpose() - p)).norm());
         p = x.row(j).transpose();
       }
       m_solution = x;
       m_has_solution = true;
       result.energies.push_back(energy(x, b));
-      result.last_change = diagonal > 0 ? change / diagonal : change;
+      result.last_change = diagonal > 0 ? change / (unit * diagonal) : change / unit;
       ++result.iterations;
       if(result.last_change <= tolerance)
         break;
@@ -298,7 +346,8 @@ public:
     for(std::size_t k = 0; k < m_soft.size(); ++k)
     {
       const std::size_t v = m_unknowns[m_soft[k]];
-      result.max_constraint_residual = (std::max)(result.max_constraint_residual, (current[v] - positions[v]).norm());
+      const double unit = normalizing_power_of_two((current[v] - positions[v]).cwiseAbs().maxCoeff());
+      result.max_constraint_residual = (std::max)(result.max_constraint_residual, (unit * (current[v] - positions[v])).norm() / unit);
     }
     positions.swap(current);
     return result;
@@ -415,9 +464,11 @@ private:
   }
 
   // fits T_a for every fitted node, in parallel when ConcurrencyTag allows it; each block of rows
-  // gathers its cells into buffers of its own (one allocation per block, none per row)
-  void local_step(const std::vector<Eigen::Vector3d>& p)
+  // gathers its cells into buffers of its own (one allocation per block, none per row). Returns
+  // the number of nodes whose fit is not finite (their transforms are left as they were).
+  std::size_t local_step(const std::vector<Eigen::Vector3d>& p)
   {
+    std::atomic<std::size_t> failed(0);
     const Laplacian_stencils& s = *m_stencils;
     for_each_block(m_needed_nodes.size(), [&](std::size_t begin, std::size_t end) {
       for(std::size_t i = begin; i < end; ++i)
@@ -444,11 +495,26 @@ private:
           current_edges[i] = xa - m_node_positions[b];
           fit_weights[i] = (std::max)(s.weight[first + i], 0.);
         }
+        // the fits are homogeneous in the edges: scale the cell by a power of two (exact) that
+        // brings its largest coordinate near 1, away from overflow and underflow at any model size
+        double largest = 0;
+        for(std::size_t i = 0; i < degree; ++i)
+          largest = (std::max)({largest, rest_edges[i].cwiseAbs().maxCoeff(), current_edges[i].cwiseAbs().maxCoeff()});
+        const double unit = normalizing_power_of_two(largest);
+        for(std::size_t i = 0; i < degree; ++i)
+        {
+          rest_edges[i] *= unit;
+          current_edges[i] *= unit;
+        }
         const Transform_cell cell(rest_edges.data(), current_edges.data(), fit_weights.data(), degree);
         const Eigen::Matrix3d t = m_policy.transform(cell);
-        m_transforms[r] = t.allFinite() ? t : Eigen::Matrix3d::Identity();
+        if(t.allFinite())
+          m_transforms[r] = t;
+        else
+          ++failed;
       }
     });
+    return failed;
   }
 
   const Laplacian_stencils* m_stencils = nullptr;

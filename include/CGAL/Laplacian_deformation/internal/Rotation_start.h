@@ -173,7 +173,13 @@ public:
         return 0.;                                       // border or polygon face: no angle
       const Eigen::Vector3d &a = rest[idx(source(h, tm))], &b = rest[idx(target(h, tm))],
                             &c = rest[idx(target(next(h, tm), tm))];
-      const Eigen::Vector3d u = a - c, w = b - c;
+      Eigen::Vector3d u = a - c, w = b - c;
+      const double extent = (std::max)(u.cwiseAbs().maxCoeff(), w.cwiseAbs().maxCoeff());
+      if(extent > 0 && std::isfinite(extent))
+      {
+        u /= extent;                                    // the cotangent is scale-invariant
+        w /= extent;
+      }
       const double cross = u.cross(w).norm(), dot = u.dot(w);
       if(!(cross > 0))
         return dot > 0 ? cotangent_bound : (dot < 0 ? -cotangent_bound : 0.);

@@ -18,6 +18,20 @@ namespace CGAL {
 namespace Laplacian_deformation {
 namespace internal {
 
+// The power of two that brings `largest` (a magnitude, >= 0) into [1/2, 1); 1 for zero, NaN or
+// infinity. Multiplying by it is exact (no rounding) unless the product is subnormal, so a
+// computation that is homogeneous in its input gives bitwise the same result on the scaled input,
+// without the overflows and underflows of squares and products far from 1. For a subnormal
+// `largest` the factor stops at 2^1000 (finite).
+inline double normalizing_power_of_two(double largest)
+{
+  if(!(largest > 0) || !std::isfinite(largest))
+    return 1.;
+  int exponent = 0;
+  std::frexp(largest, &exponent);
+  return std::ldexp(1., -(std::max)(exponent, -1000));
+}
+
 // argmax_R trace(R^T S) over proper rotations, S = sum c e' e^T (Sorkine and Alexa 2007):
 // R = U V^T from the SVD S = U Sigma V^T, with the sign of the column of U of the smallest
 // singular value flipped when det(U V^T) < 0. Eigen's JacobiSVD sorts singular values in
@@ -80,8 +94,16 @@ inline void symmetric_eigen_jacobi_3(Eigen::Matrix3d& a, Eigen::Matrix3d& v)
 // accuracy in the second direction by (sigma1 / sigma2)^2, so cells whose second singular value
 // is below 1e-2 of the first (nearly collinear cells, rare) and non-finite input go to the SVD:
 // the result then agrees with closest_rotation_svd() to about 1e4 x machine epsilon.
-inline Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& s)
+// The rotation does not depend on the magnitude of S: S is first scaled by the power of two that
+// brings its largest entry into [1/2, 1) (exact in floating point, so the result is bitwise the
+// same as without scaling wherever S^T S neither overflows nor underflows); without it S^T S
+// overflows or underflows beyond about 1e+-77 and the eigenvectors come out as the identity.
+inline Eigen::Matrix3d closest_rotation(const Eigen::Matrix3d& s_in)
 {
+  const double largest = s_in.cwiseAbs().maxCoeff();
+  if(!std::isfinite(largest))
+    return closest_rotation_svd(s_in);     // NaN or infinite: the caller sees a non-finite result
+  const Eigen::Matrix3d s = normalizing_power_of_two(largest) * s_in;
   Eigen::Matrix3d a = s.transpose() * s, v;
   symmetric_eigen_jacobi_3(a, v);
   int i0 = 0, i1 = 1, i2 = 2;
