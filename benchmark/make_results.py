@@ -58,9 +58,9 @@ def number(row, key):
 
 
 def find(task, method, representation, weights, transform, start=None):
-    """The row of a successful run; ours: the rotation start (the library's default) unless `start`."""
+    """The row of a successful run; ours: the identity start (the library's default) unless `start`."""
     if start is None:
-        start = 'rotation' if method == 'ours' else '-'
+        start = 'identity' if method == 'ours' else '-'
     for r in rows:
         if (r['task'], r['method'], r['representation'], r['weights'], r['transform'], r.get('start', start)) == \
                 (task, method, representation, weights, transform, start) and r['status'] == 'ok':
@@ -87,7 +87,9 @@ p('- Machine: %s, %s logical CPUs (shared with other jobs while measured: timing
 p('- Compiler: %s, Release build; CGAL %s (Debian), its `Surface_mesh_deformation` with its default solver; '
   'source commit %s' % (compiler, cgal, commit))
 p('- Harness: every task x {vertex, edge} x {uniform, cotangent} x {fixed, rotation, similarity, sr1 (S*R1), '
-  'principal, rsr (R2*S*R1)} x {identity, rotation start} of `Mesh_deformer` with hard constraints, and CGAL '
+  'principal, rsr (R2*S*R1), anchored S*R1} x {identity, rotation start} of `Mesh_deformer` with hard constraints '
+  '(and, with cotangent weights, rotation and anchored S*R1 with the rotation start and spoke rigidity rows of '
+  'weight 0.3: `rotation+rigid`, `anchored+rigid`), and CGAL '
   'ORIGINAL_ARAP, SPOKES_AND_RIMS, SRE_ARAP on the same ROI, handle and targets; %s iterations each (`deform(1, 0)` called %s times: '
   'tolerance 0), each run in a forked child whose VmHWM is its peak memory. Metrics: '
   '`include/CGAL/Laplacian_deformation/metrics.h` (all: lower is better); the distortion field of the '
@@ -102,7 +104,7 @@ p('')
 figures = [t for t in tasks if os.path.exists(os.path.join(bench_dir, 'figures', t + '.png'))]
 if figures:
     p('## Figures\n')
-    p('Rest | vertex-based | edge-based (both cotangent, S*R1, rotation start: the library\'s defaults) | CGAL ORIGINAL_ARAP, coloured by the one-ring '
+    p('Rest | vertex-based | edge-based (both cotangent, S*R1, identity start: the library\'s defaults) | CGAL ORIGINAL_ARAP, coloured by the one-ring '
       'rigidity error with one shared colour bar per task.\n')
     for t in figures:
         p('![%s](figures/%s.png)\n' % (t, t))
@@ -112,7 +114,7 @@ else:
 
 # summary of the default combinations
 p('## Summary (cotangent weights)\n')
-p('Per task: rotation and S*R1 transforms for both representations (rotation start, the library\'s default), '
+p('Per task: rotation and S*R1 transforms for both representations (identity start, the library\'s default), '
   'and CGAL ARAP. Times in ms: preprocess, one iteration.\n')
 p('| task | method | prep | iter | peak MB | Lv | Le | edge mean / max | dihedral mean / max | normal mean / max | ARAP |')
 p('|---|---|---:|---:|---:|---:|---:|---|---|---|---:|')
@@ -137,7 +139,7 @@ p('')
 
 # where the edge-based method loses
 p('## Where the edge-based method loses\n')
-p('Edge- vs vertex-based on the same task, weights and transform, both with the rotation start (%d tasks x 2 weights x 6 transforms). '
+p('Edge- vs vertex-based on the same task, weights and transform, both with the identity start (%d tasks x 2 weights x 6 transforms). '
   'A loss is a strictly larger value of the metric (or time). Read Lv and Le with care: each method '
   'minimises its own Laplacian error (Lv favours the vertex-based, Le the edge-based method), and CGAL '
   'ARAP minimises the ARAP energy; the edge-length, dihedral and normal metrics favour no method.\n' % len(tasks))
@@ -177,7 +179,7 @@ for key, label in (('preprocess_s', 'preprocess'), ('iteration_s', 'one iteratio
           '- Edge-based / vertex-based memory growth ratio: median %.2f, range %.2f to %.2f.' % (
             r[len(r) // 2], r[0], r[-1]))
 p('')
-p('Edge-based (cotangent, S*R1, rotation start) vs CGAL ORIGINAL_ARAP, per task: the metrics where the edge-based result is worse.\n')
+p('Edge-based (cotangent, S*R1, identity start) vs CGAL ORIGINAL_ARAP, per task: the metrics where the edge-based result is worse.\n')
 p('| task | worse than CGAL ARAP on | better on |')
 p('|---|---|---|')
 for t in tasks:
@@ -189,9 +191,11 @@ for t in tasks:
 p('')
 
 # large rotations (issue 15): task metrics, start, best edge-based vs CGAL, convergence
-TRANSFORMS = ('fixed', 'rotation', 'similarity', 'sr1', 'principal', 'rsr')
+TRANSFORMS = ('fixed', 'rotation', 'similarity', 'sr1', 'principal', 'rsr', 'anchored', 'rotation+rigid',
+              'anchored+rigid')
 TRANSFORM_LABEL = {'fixed': 'fixed', 'rotation': 'rotation', 'similarity': 'similarity', 'sr1': 'S*R1',
-                   'principal': 'principal', 'rsr': 'R2*S*R1'}
+                   'principal': 'principal', 'rsr': 'R2*S*R1', 'anchored': 'anchored S*R1',
+                   'rotation+rigid': 'rotation + rigidity 0.3', 'anchored+rigid': 'anchored S*R1 + rigidity 0.3'}
 CGAL_VARIANTS = ('ORIGINAL_ARAP', 'SPOKES_AND_RIMS', 'SRE_ARAP')
 TASK_METRICS = [('bend_arc_error', 'bend arc error (tube radii)'), ('bend_min_turn_deg', 'bend min turn (deg)'),
                 ('twist_mid_deg', 'mid twist (deg)'), ('twist_mid_radius_ratio', 'mid-ring radius ratio'),
@@ -287,7 +291,9 @@ else:
                 for k, l in keys:
                     for st in ('identity', 'rotation'):
                         r = find(t, 'ours', rep, 'cotangent', x, st)
-                        cells.append(g(number(r, k)) if r else 'failed')
+                        present = any(q['task'] == t and q['method'] == 'ours' and q['representation'] == rep and
+                                      q['weights'] == 'cotangent' and q['transform'] == x and q['start'] == st for q in rows)
+                        cells.append(g(number(r, k)) if r else ('failed' if present else '-'))
                 p('| %s | %s | %s |' % (rep, TRANSFORM_LABEL[x], ' | '.join(cells)))
         for v in CGAL_VARIANTS:
             r = find(t, 'cgal', 'vertex', 'cotangent', v)
@@ -298,7 +304,7 @@ else:
         p('')
 
     p('### Rotation start vs identity start\n')
-    p('Per task and metric: is the rotation start (`ROTATION_START`, the library\'s default) no worse than the '
+    p('Per task and metric: is the rotation start (`ROTATION_START`) no worse than the identity start (the library\'s default) '
       'identity start on every one of our 24 combinations (2 representations x 2 weights x 6 transforms; `fixed` '
       'ignores the start)? Worse = strictly larger distance from the ideal (lower for the quality metrics, the '
       'arc error, |twist - ideal|, |radius ratio - 1| and |volume change|; higher for the min turn), beyond a '

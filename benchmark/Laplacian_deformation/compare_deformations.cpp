@@ -5,7 +5,7 @@
 // all with the same number of iterations and tolerance 0; measures the quality metrics of
 // metrics.h, the task metrics of deformation_task.h (bend, twist, volume change) and the timings;
 // writes OUT/results.csv, OUT/results.md and, per task, OUT/<task>/{rest,vertex,edge,cgal_arap}.ply
-// (with a per-vertex `distortion`; vertex and edge: cotangent weights, S*R1, rotation start, the
+// (with a per-vertex `distortion`; vertex and edge: cotangent weights, S*R1, identity start, the
 // library's defaults) and task.json.
 //
 //   compare_deformations [--iterations N] [--data DIR] OUT TASK_FILE...
@@ -77,11 +77,13 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 void set_message(Record& r, const std::string& m) { std::snprintf(r.message, sizeof(r.message), "%s", m.c_str()); }
 
 template <class Representation, class Weights, class Transform>
-bool run_ours(const Task& task, unsigned iterations, LD::Deformation_start start, Mesh& m, Record& r, const Step& step)
+bool run_ours(const Task& task, unsigned iterations, LD::Deformation_start start, double rigidity, Mesh& m, Record& r,
+              const Step& step)
 {
   m = task.mesh;
   LD::Mesh_deformer<Mesh, Representation, Weights, Transform> d(m);
   d.set_start(start);
+  d.set_rigidity_weight(rigidity);
   d.insert_roi_vertices(task.roi.begin(), task.roi.end());
   d.insert_control_vertices(task.handle.begin(), task.handle.end());
   const Clock::time_point t0 = Clock::now();
@@ -133,7 +135,7 @@ bool run_cgal(const Task& task, unsigned iterations, Mesh& m, Record& r, const S
 }
 
 // one combination with both starts (the start is captured at run time: one instantiation per combination);
-// `panel` names the PLY of the rotation start (the library's default start), if any
+// `panel` names the PLY of the identity start (the library's default start), if any
 template <class Representation, class Weights, class Transform>
 void add_starts(std::vector<Method>& methods, const std::string& representation, const std::string& weights,
                 const std::string& transform, const std::string& panel)
@@ -144,17 +146,30 @@ void add_starts(std::vector<Method>& methods, const std::string& representation,
   {
     const LD::Deformation_start start = s.first;
     methods.push_back({"ours", representation, weights, transform, s.second,
-                       start == LD::ROTATION_START ? panel : std::string(),
+                       start == LD::IDENTITY_START ? panel : std::string(),
                        [start](const Task& task, unsigned iterations, Mesh& m, Record& r, const Step& step) {
-                         return run_ours<Representation, Weights, Transform>(task, iterations, start, m, r, step);
+                         return run_ours<Representation, Weights, Transform>(task, iterations, start, 0., m, r, step);
                        }});
   }
+}
+
+// the recommended configurations for large rotations: rotation start and spoke rigidity rows of
+// weight 0.3 (Mesh_deformer::set_rigidity_weight), named TRANSFORM+rigid
+template <class Representation, class Weights, class Transform>
+void add_rigid(std::vector<Method>& methods, const std::string& representation, const std::string& weights,
+               const std::string& transform)
+{
+  methods.push_back({"ours", representation, weights, transform + "+rigid", "rotation", std::string(),
+                     [](const Task& task, unsigned iterations, Mesh& m, Record& r, const Step& step) {
+                       return run_ours<Representation, Weights, Transform>(task, iterations, LD::ROTATION_START, 0.3,
+                                                                           m, r, step);
+                     }});
 }
 
 template <class Representation, class Weights>
 void add_transforms(std::vector<Method>& methods, const std::string& representation, const std::string& weights)
 {
-  // the panels: cotangent weights, S*R1, rotation start (the library's defaults)
+  // the panels: cotangent weights, S*R1, identity start (the library's defaults)
   const std::string panel = weights == "cotangent" ? representation : std::string();
   add_starts<Representation, Weights, LD::Fixed_transform>(methods, representation, weights, "fixed", "");
   add_starts<Representation, Weights, LD::Rotation_transform>(methods, representation, weights, "rotation", "");
@@ -162,6 +177,12 @@ void add_transforms(std::vector<Method>& methods, const std::string& representat
   add_starts<Representation, Weights, LD::Scaled_rotation_transform>(methods, representation, weights, "sr1", panel);
   add_starts<Representation, Weights, LD::Principal_scaled_rotation_transform>(methods, representation, weights, "principal", "");
   add_starts<Representation, Weights, LD::Rotation_scale_rotation_transform>(methods, representation, weights, "rsr", "");
+  add_starts<Representation, Weights, LD::Anchored_scaled_rotation_transform>(methods, representation, weights, "anchored", "");
+  if(weights == "cotangent")
+  {
+    add_rigid<Representation, Weights, LD::Rotation_transform>(methods, representation, weights, "rotation");
+    add_rigid<Representation, Weights, LD::Anchored_scaled_rotation_transform>(methods, representation, weights, "anchored");
+  }
 }
 
 std::vector<Method> all_methods()
