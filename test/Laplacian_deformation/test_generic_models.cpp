@@ -475,3 +475,98 @@ TEST(GenericModels, TheTaskMovesTheMeshAndTheRepresentationsDiffer)
   EXPECT_GT(moved, 0.1);
   EXPECT_GT(differ, 1e-3 * patch_diagonal());
 }
+
+// Minimal meshes over the supported mesh types: an empty mesh, vertices without faces, a single
+// triangle, a tetrahedron. Each call either succeeds with a right answer or fails with a status
+// and leaves the mesh exactly as it was.
+namespace {
+
+template <class Graph>
+class MinimalMeshes : public ::testing::Test {};
+typedef ::testing::Types<Surface_mesh, CGAL::Surface_mesh<Float_kernel::Point_3>, Polyhedron,
+                         CGAL::Polyhedron_3<Kernel> > Minimal_mesh_graphs;
+TYPED_TEST_SUITE(MinimalMeshes, Minimal_mesh_graphs);
+
+template <class Graph>
+std::vector<Coordinates> graph_positions(const Graph& g)
+{
+  std::vector<Coordinates> p;
+  for(auto v : vertices(g))
+  {
+    const auto& q = get(CGAL::vertex_point, g, v);
+    p.push_back({{CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z())}});
+  }
+  return p;
+}
+
+} // namespace
+
+TYPED_TEST(MinimalMeshes, SucceedRightOrFailCleanly)
+{
+  typedef TypeParam Graph;
+  typedef typename boost::graph_traits<Graph>::vertex_descriptor vertex_descriptor;
+  typedef typename boost::property_traits<typename boost::property_map<Graph, CGAL::vertex_point_t>::type>::value_type Point;
+  typedef LD::Mesh_deformer<Graph> Deformer;
+
+  {   // empty mesh: nothing to deform
+    Graph g;
+    Deformer d(g);
+    EXPECT_EQ(d.deform(1, 0.).status, LD::EMPTY_REGION_OF_INTEREST);
+    EXPECT_EQ(num_vertices(g), 0u);
+  }
+  {   // three vertices without faces: no Laplacian row touches them
+    Soup s;
+    s.points = {{{0, 0, 0}}, {{1, 0, 0}}, {{0, 1, 0}}};
+    Graph g = to_mesh<Graph>(s);
+    if(num_vertices(g) == 0)            // polygon_soup_to_polygon_mesh drops unused points: add them
+      for(const auto& p : s.points)
+        put(CGAL::vertex_point, g, add_vertex(g), Point(p[0], p[1], p[2]));
+    internal::set_ids(g);
+    const auto before = graph_positions(g);
+    Deformer d(g);
+    std::vector<vertex_descriptor> all(vertices(g).begin(), vertices(g).end());
+    d.insert_roi_vertices(all.begin(), all.end());
+    d.insert_control_vertex(all.front());
+    d.set_target_position(all.front(), Point(0, 0, 1));
+    const LD::Deformation_result r = d.deform(2, 0.);
+    EXPECT_FALSE(r) << "three isolated vertices cannot be deformed";
+    EXPECT_FALSE(r.message.empty());
+    EXPECT_EQ(graph_positions(g), before);
+  }
+  for(int closed = 0; closed < 2; ++closed)
+  {   // a single triangle, a tetrahedron: ROI = every vertex; translating every control moves the
+      // whole (unanchored but for the controls) mesh rigidly, or the call fails cleanly
+    Soup s;
+    s.points = {{{0, 0, 0}}, {{1, 0, 0}}, {{0, 1, 0}}, {{0.2, 0.3, 1}}};
+    if(closed)
+      s.faces = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
+    else
+    {
+      s.points.pop_back();
+      s.faces = {{0, 1, 2}};
+    }
+    Graph g = to_mesh<Graph>(s);
+    ASSERT_EQ(num_vertices(g), s.points.size());
+    const auto before = graph_positions(g);
+    Deformer d(g);
+    std::vector<vertex_descriptor> all(vertices(g).begin(), vertices(g).end());
+    d.insert_roi_vertices(all.begin(), all.end());
+    d.insert_control_vertex(all[0]);
+    d.insert_control_vertex(all[1]);
+    d.translate(all.begin(), all.begin() + 2, Eigen::Vector3d(0.1, 0.2, 0.3));
+    const LD::Deformation_result r = d.deform(3, 0.);
+    const auto after = graph_positions(g);
+    if(r)
+      for(std::size_t i = 0; i < after.size(); ++i)
+        for(int k = 0; k < 3; ++k)
+          EXPECT_NEAR(after[i][std::size_t(k)], before[i][std::size_t(k)] + 0.1 * (k + 1), 1e-6)
+              << (closed ? "tetrahedron" : "triangle") << " vertex " << i;
+    else
+    {
+      EXPECT_FALSE(r.message.empty());
+      EXPECT_EQ(after, before);
+    }
+    std::cout << "[measured] " << (closed ? "tetrahedron" : "single triangle") << ": "
+              << (r ? std::string("success, moved rigidly") : "refused: " + r.message) << std::endl;
+  }
+}
