@@ -369,12 +369,14 @@ window.editor = {
 (async () => {
   try {
     if(!TOKEN) throw new Error('no token in the address: open the address laplacian_deform --serve printed (it ends with #token=...)');
-    const response = await fetch('/api/meshes', { headers: { 'X-Editor-Token': TOKEN } });
-    const list = await response.json();
-    if(!response.ok) throw new Error(list.error || `HTTP ${response.status}`);
-    for(const name of list.meshes) $('mesh').append(new Option(name, name));
     setMode('roi');
-    await openMesh('default');
+    const meshes = (async () => {   // the list and the default mesh at once
+      const response = await fetch('/api/meshes', { headers: { 'X-Editor-Token': TOKEN } });
+      const list = await response.json();
+      if(!response.ok) throw new Error(list.error || `HTTP ${response.status}`);
+      for(const name of list.meshes) $('mesh').append(new Option(name, name));
+    })();
+    await Promise.all([meshes, openMesh('default')]);
     window.editor.ready = true;
     // leaving the page closes its session (the server keeps a bounded number); back to it from the
     // browser's cache, it starts again

@@ -141,6 +141,13 @@ TEST_F(Server_test, malformed_requests_get_clear_errors_and_change_nothing)
   EXPECT_NE(error("/api/nothing", "{}", 404).find("no such API"), std::string::npos);
   EXPECT_EQ(server->get("/api/download", {{"session", id}, {"format", "exe"}}).status, 400);
   EXPECT_EQ(server->get("/api/download", {{"format", "off"}}).status, 400);
+  // bytes that are not UTF-8, echoed in a message, still give a JSON error (found by fuzz_server)
+  const Reply latin = server->get("/api/download", {{"session", id}, {"format", "\xfd\xff"}});
+  EXPECT_EQ(latin.status, 400);
+  EXPECT_TRUE(json::parse(latin.body, nullptr, false).is_object()) << latin.body;
+  const Reply url = get_static(options.viewer_dir, "/\xfdx");
+  EXPECT_EQ(url.status, 404);
+  EXPECT_TRUE(json::parse(url.body, nullptr, false).is_object()) << url.body;
 
   // nothing changed: same mesh, same factorisation, and the session still deforms
   EXPECT_EQ(download(id, "off"), before);
@@ -474,6 +481,9 @@ TEST_F(Server_test, the_guard_refuses_other_hosts_origins_tokens_and_types)
     f = ok; f.has_origin = true; f.origin = origin;
     refused(f, 403, "from another site");
   }
+  f = ok; f.host = "\xff\xfe:8123";
+  refused(f, 403, "is not 127.0.0.1:8123");   // not UTF-8: still a JSON message
+  EXPECT_TRUE(json::parse(refusal(f, 8123, token)->body, nullptr, false).is_object());
   f = ok; f.token_header = ""; refused(f, 401, "missing token");
   f = ok; f.token_header = token + "x"; refused(f, 401, "wrong token");
   f = ok; f.token_header = ""; f.token_query = token; refused(f, 401, "token");   // a POST needs the header

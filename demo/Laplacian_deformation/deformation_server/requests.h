@@ -47,11 +47,15 @@ struct Reply
   std::string etag;
 };
 
+// (bytes that are not UTF-8, as a URL or a header echoed in an error message may hold, are
+// replaced by U+FFFD: nlohmann-json would throw)
+inline std::string dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
 inline Reply json_reply(const json& j, int status = 200)
 {
   Reply r;
   r.status = status;
-  r.body = j.dump();
+  r.body = dump(j);
   return r;
 }
 inline Reply error_reply(int status, const std::string& message) { return json_reply(json{{"error", message}}, status); }
@@ -260,7 +264,7 @@ inline void append_le32(std::string& out, std::uint32_t x)
 /// order of the selection reply's "moving").
 inline std::string encode_frame(const json& header, const Mesh& m, const std::vector<vertex_descriptor>& vertices)
 {
-  std::string text = header.dump();
+  std::string text = dump(header);
   while((4 + text.size()) % 4 != 0)
     text.push_back(' ');
   std::string out;
