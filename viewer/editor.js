@@ -10,7 +10,7 @@
 // positions on the page) next to the server's times.
 import * as THREE from 'three';
 import { PanelView } from './lib/panels.js';
-import { createFieldMesh, setPositions } from './lib/mesh.js';
+import { createFieldMesh, setPositions, movingRegion, setSomePositions } from './lib/mesh.js';
 
 const $ = (id) => document.getElementById(id);
 const COLORS = [new THREE.Color(0xb8bcc4), new THREE.Color(0xe8c547), new THREE.Color(0xd7263d)];
@@ -23,6 +23,7 @@ const state = {
   mode: 'roi',
   transform: new THREE.Matrix4(),   // the handle's motion from rest (sent as rotation + translation)
   moving: new Int32Array(0),        // the vertices whose positions a drag reply holds, in its order
+  region: null,                     // movingRegion(mesh, moving): the normals a drag changes
   seq: 0,                           // the number of the last drag sent (the server drops superseded ones)
   epoch: 0,                         // bumped by a new mesh or selection: older drag replies are ignored
   inFlight: false, pending: null, updates: 0, lastReply: null, lastRoundTrip: null, applied: [], busy: Promise.resolve(),
@@ -129,13 +130,7 @@ async function openMesh(name) {
 
 /** Puts the moving vertices at `xyz` (x, y, z per vertex of state.moving); the others stay. */
 function setMovingPositions(xyz) {
-  if(xyz.length !== 3 * state.moving.length) throw new Error(`got ${xyz.length / 3} positions for ${state.moving.length} moving vertices`);
-  const attribute = state.mesh.geometry.getAttribute('position');
-  const a = attribute.array;
-  state.moving.forEach((v, i) => { a[3 * v] = xyz[3 * i]; a[3 * v + 1] = xyz[3 * i + 1]; a[3 * v + 2] = xyz[3 * i + 2]; });
-  attribute.needsUpdate = true;
-  state.mesh.geometry.computeVertexNormals();
-  state.mesh.geometry.computeBoundingSphere();
+  setSomePositions(state.mesh, state.region, xyz);
   view.requestRender();
 }
 
@@ -156,6 +151,7 @@ async function commitSelection() {
   const reply = await api('/api/select', { session: state.session, roi, handles });
   ++state.epoch;
   state.moving = Int32Array.from(reply.moving);
+  state.region = movingRegion(state.mesh, state.moving);
   state.selectionDirty = false;
   state.transform.identity();
   setPositions(state.mesh, state.rest);

@@ -65,7 +65,7 @@ inline fs::path executable_path(const char* argv0)
   return argv0 ? fs::absolute(argv0, ec) : fs::path();
 }
 
-/// Binds `http` to options.host:options.port (0: any free port) without SO_REUSEPORT (cpp-httplib
+/// Binds `http` to options.host:options.port (0: any free port) with TCP_NODELAY, without SO_REUSEPORT (cpp-httplib
 /// sets it by default: a second server on a taken port would then start, and the kernel would
 /// split the connections between the two). Returns the port, or -1 if it is taken or unusable.
 inline int bind_exclusively(httplib::Server& http, const Server_options& options)
@@ -74,6 +74,9 @@ inline int bind_exclusively(httplib::Server& http, const Server_options& options
     int yes = 1;   // SO_REUSEADDR alone: a restart may reuse a port in TIME_WAIT, not a listening one
     setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, reinterpret_cast<void*>(&yes), sizeof(yes));
   });
+  // and no Nagle delay: a reply's header and body are written separately, and the second write
+  // would wait for the client's (delayed) acknowledgement of the first
+  http.set_tcp_nodelay(true);
   if(options.port == 0)
     return http.bind_to_any_port(options.host);
   return http.bind_to_port(options.host, options.port) ? options.port : -1;
