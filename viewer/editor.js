@@ -2,10 +2,15 @@
 // handle, drag the handle (translate; Ctrl or Alt: rotate about the view axis) and watch the
 // deformation computed by the C++ server (one Mesh_deformer per session, factored once per
 // selection). Reuses the viewer's modules: PanelView (camera, orbit controls, picking) and
-// createFieldMesh / setPositions. The JSON API is described in the user manual.
+// createFieldMesh / setPositions. The JSON API is described in the user manual. Every API call
+// carries the server's per-run token (X-Editor-Token), taken from the address the tool printed
+// (#token=... or ?token=...). A drag reply is a binary frame holding only the moving vertices'
+// positions (float32, in the order of the selection reply's "moving"); at most one drag is in
+// flight and only the latest pending one is sent; the tool bar shows the round trip (request to
+// positions on the page) next to the server's times.
 import * as THREE from 'three';
 import { PanelView } from './lib/panels.js';
-import { createFieldMesh, setPositions } from './lib/mesh.js';
+import { createFieldMesh, setPositions, movingRegion, setSomePositions } from './lib/mesh.js';
 
 const $ = (id) => document.getElementById(id);
 const COLORS = [new THREE.Color(0xb8bcc4), new THREE.Color(0xe8c547), new THREE.Color(0xd7263d)];
@@ -17,16 +22,36 @@ const state = {
   selectionDirty: true,    // painted since the last POST /api/select
   mode: 'roi',
   transform: new THREE.Matrix4(),   // the handle's motion from rest (sent as rotation + translation)
-  inFlight: false, pending: null, updates: 0, lastReply: null, busy: Promise.resolve(),
+  moving: new Int32Array(0),        // the vertices whose positions a drag reply holds, in its order
+  region: null,                     // movingRegion(mesh, moving): the normals a drag changes
+  seq: 0,                           // the number of the last drag sent (the server drops superseded ones)
+  epoch: 0,                         // bumped by a new mesh or selection: older drag replies are ignored
+  inFlight: false, pending: null, updates: 0, lastReply: null, lastRoundTrip: null, applied: [], busy: Promise.resolve(),
 };
 
 function message(text) { $('message').textContent = text || ''; }
 
+const TOKEN = new URLSearchParams(location.hash.slice(1)).get('token') || new URLSearchParams(location.search).get('token') || '';
+const HEADERS = { 'Content-Type': 'application/json', 'X-Editor-Token': TOKEN };
+
 async function api(path, body) {
-  const response = await fetch(path, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
+  const response = await fetch(path, { method: 'POST', headers: HEADERS, body: JSON.stringify(body) });
   const reply = await response.json();
-  if(!response.ok) throw new Error(reply.error || `${path}: HTTP ${response.status}`);
+  if(!response.ok) throw Object.assign(new Error(reply.error || `${path}: HTTP ${response.status}`), { status: response.status });
   return reply;
+}
+
+/** A POST whose reply is the binary frame (see the manual): {header, xyz: Float32Array, bytes}. */
+async function apiFrame(path, body) {
+  const response = await fetch(path, { method: 'POST', headers: HEADERS, body: JSON.stringify({ ...body, binary: true }) });
+  if(!response.ok) {
+    const reply = await response.json();
+    throw Object.assign(new Error(reply.error || `${path}: HTTP ${response.status}`), { status: response.status, reply });
+  }
+  const buffer = await response.arrayBuffer();
+  const n = new DataView(buffer).getUint32(0, true);
+  const header = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 4, n)));
+  return { header, xyz: new Float32Array(buffer, 4 + n), bytes: buffer.byteLength };
 }
 
 const view = new PanelView($('panels'), { background: '#ffffff', captionPosition: 'bottom' });
@@ -67,12 +92,22 @@ function recolor() {
 
 function updateDownloads() {
   for(const format of ['off', 'ply', 'sel', 'def'])
-    $(`dl-${format}`).href = `/api/download?session=${state.session}&format=${format}`;
+    $(`dl-${format}`).href = `/api/download?session=${state.session}&format=${format}&token=${encodeURIComponent(TOKEN)}`;
+}
+
+function closeSession(keepalive) {
+  if(!state.session) return;
+  fetch('/api/close', { method: 'POST', headers: HEADERS, body: JSON.stringify({ session: state.session }), keepalive })
+    .catch(() => {});
+  state.session = null;
 }
 
 async function openMesh(name) {
   const reply = await api('/api/session', { mesh: name });
+  closeSession(false);   // the previous mesh's session
+  ++state.epoch;
   state.session = reply.session;
+  state.moving = new Int32Array(0);
   state.n = reply.vertices.length / 3;
   state.rest = Float64Array.from(reply.vertices);
   state.faces = reply.faces;
@@ -93,14 +128,16 @@ async function openMesh(name) {
   message('');
 }
 
-function setPositionsFromReply(reply) {
-  setPositions(state.mesh, reply.positions);
+/** Puts the moving vertices at `xyz` (x, y, z per vertex of state.moving); the others stay. */
+function setMovingPositions(xyz) {
+  setSomePositions(state.mesh, state.region, xyz);
   view.requestRender();
 }
 
-function showTiming(reply) {
+function showTiming(reply, roundTrip) {
   const ms = (s) => (1000 * s).toFixed(1);
-  $('timing').textContent = `update ${ms(reply.seconds)} ms (local ${ms(reply.local_step_seconds)}, rhs ` +
+  $('timing').textContent = (roundTrip !== undefined ? `round trip ${roundTrip.toFixed(1)} ms, ` : '') +
+    `update ${ms(reply.seconds)} ms (local ${ms(reply.local_step_seconds)}, rhs ` +
     `${ms(reply.right_hand_side_seconds)}, solve ${ms(reply.solve_seconds)}), ${reply.iterations} it, ` +
     `server ${ms(reply.handler_seconds)} ms, factorizations ${reply.factorizations}`;
 }
@@ -112,6 +149,9 @@ async function commitSelection() {
   state.status.forEach((s, v) => { if(s === ROI) roi.push(v); else if(s === HANDLE) handles.push(v); });
   if(handles.length === 0) { message('paint at least one handle vertex first (Handle mode)'); return false; }
   const reply = await api('/api/select', { session: state.session, roi, handles });
+  ++state.epoch;
+  state.moving = Int32Array.from(reply.moving);
+  state.region = movingRegion(state.mesh, state.moving);
   state.selectionDirty = false;
   state.transform.identity();
   setPositions(state.mesh, state.rest);
@@ -132,7 +172,28 @@ function dragBody(matrix) {
            iterations: Math.max(1, Math.min(100, Number($('iterations').value) || 4)) };
 }
 
-/** Queues a deformation for the current transform; at most one request is in flight (the latest wins). */
+/** Sends one drag; applies its reply unless a newer mesh or selection came meanwhile. */
+async function sendDrag(matrix) {
+  const epoch = state.epoch, body = { ...dragBody(matrix), seq: ++state.seq };
+  const t0 = performance.now();
+  let frame;
+  try { frame = await apiFrame('/api/drag', body); } catch(e) {
+    if(e.status === 409 && e.reply && e.reply.superseded) return;   // a newer drag of this page is on its way
+    throw e;
+  }
+  if(epoch !== state.epoch) return;
+  setMovingPositions(frame.xyz);
+  const roundTrip = performance.now() - t0;
+  showTiming(frame.header, roundTrip);
+  state.lastReply = frame.header;
+  state.lastRoundTrip = { ms: roundTrip, bytes: frame.bytes, seq: frame.header.seq,
+                          serverMs: 1000 * frame.header.handler_seconds, updateMs: 1000 * frame.header.seconds };
+  state.applied.push(frame.header.seq);
+  ++state.updates;
+}
+
+/** Queues a deformation for the current transform: at most one request is in flight; while it is,
+ *  newer transforms replace each other and only the latest is sent next. */
 function requestDrag() {
   state.pending = state.transform.clone();
   if(state.inFlight) return state.busy;
@@ -142,11 +203,7 @@ function requestDrag() {
       while(state.pending) {
         const matrix = state.pending;
         state.pending = null;
-        const reply = await api('/api/drag', dragBody(matrix));
-        setPositionsFromReply(reply);
-        showTiming(reply);
-        state.lastReply = reply;
-        ++state.updates;
+        await sendDrag(matrix);
       }
     } catch(e) { message(e.message); } finally { state.inFlight = false; }
   })();
@@ -239,7 +296,9 @@ $('reset').addEventListener('click', async () => {
   try {
     state.transform.identity();
     if(state.selectionDirty) { setPositions(state.mesh, state.rest); view.requestRender(); return; }
-    setPositionsFromReply(await api('/api/reset', { session: state.session }));
+    await api('/api/reset', { session: state.session });
+    setPositions(state.mesh, state.rest);
+    view.requestRender();
     $('timing').textContent = '';
   } catch(e) { message(e.message); }
 });
@@ -248,7 +307,10 @@ $('clear').addEventListener('click', async () => {
     state.status.fill(FIXED);
     state.selectionDirty = true;
     state.transform.identity();
-    setPositionsFromReply(await api('/api/reset', { session: state.session, selection: true }));
+    await api('/api/reset', { session: state.session, selection: true });
+    ++state.epoch;
+    state.moving = new Int32Array(0);
+    setPositions(state.mesh, state.rest);
     recolor();
   } catch(e) { message(e.message); }
 });
@@ -256,9 +318,12 @@ async function changePolicy() {
   try {
     const body = { session: state.session };
     for(const key of ['representation', 'weights', 'transform']) body[key] = $(key).value;
-    const reply = await api('/api/policy', body);
+    const epoch = state.epoch, t0 = performance.now();
+    const { header: reply, xyz } = await apiFrame('/api/policy', body);
     // a selection painted since the last drag is sent at the next drag: until then the mesh stays at rest
-    if(reply.seconds !== undefined && !state.selectionDirty) { setPositionsFromReply(reply); showTiming(reply); ++state.updates; state.lastReply = reply; }
+    if(reply.seconds !== undefined && !state.selectionDirty && epoch === state.epoch) {
+      setMovingPositions(xyz); showTiming(reply, performance.now() - t0); ++state.updates; state.lastReply = reply;
+    }
     message('');
   } catch(e) { message(e.message); }
 }
@@ -290,16 +355,28 @@ window.editor = {
     return error;
   },
   idle() { return state.busy; },
-  setMode, openMesh,
+  /** Queues a drag for `elements` (a column-major 4x4 matrix, as THREE.Matrix4.elements), as a pointer move does. */
+  drag(elements) { state.transform = new THREE.Matrix4().fromArray(elements); return requestDrag(); },
+  commitSelection,
+  setMode, openMesh, token: TOKEN,
   ready: false,
 };
 
 (async () => {
   try {
-    const list = await (await fetch('/api/meshes')).json();
-    for(const name of list.meshes) $('mesh').append(new Option(name, name));
+    if(!TOKEN) throw new Error('no token in the address: open the address laplacian_deform --serve printed (it ends with #token=...)');
     setMode('roi');
-    await openMesh('default');
+    const meshes = (async () => {   // the list and the default mesh at once
+      const response = await fetch('/api/meshes', { headers: { 'X-Editor-Token': TOKEN } });
+      const list = await response.json();
+      if(!response.ok) throw new Error(list.error || `HTTP ${response.status}`);
+      for(const name of list.meshes) $('mesh').append(new Option(name, name));
+    })();
+    await Promise.all([meshes, openMesh('default')]);
     window.editor.ready = true;
+    // leaving the page closes its session (the server keeps a bounded number); back to it from the
+    // browser's cache, it starts again
+    window.addEventListener('pagehide', () => closeSession(true));
+    window.addEventListener('pageshow', (e) => { if(e.persisted) location.reload(); });
   } catch(e) { message(`cannot start: ${e.message}`); }
 })();

@@ -1,9 +1,8 @@
-// laplacian_deform --serve [MESH] [--port N] [--output DIR]: the browser editor
+// laplacian_deform --serve [MESH] [--port N] [--output DIR] [--viewer DIR]: the browser editor
 // (deformation_server.h), in its own translation unit (its 12 deformer instantiations).
 #include "deformation_server.h"
 
 int laplacian_deform_serve(int argc, char** argv)
 {
-  return Laplacian_deformation_server::serve_main(argc, argv, LAPLACIAN_DEFORMATION_DATA_DIR,
-                                                  LAPLACIAN_DEFORMATION_VIEWER_DIR);
+  return Laplacian_deformation_server::serve_main(argc, argv, LAPLACIAN_DEFORMATION_DATA_DIR);
 }

@@ -13,8 +13,8 @@ clang=$(command -v clang++-14 || command -v clang++)
 CXX=$clang cmake -S "$here" -B "$fuzz" -DCMAKE_BUILD_TYPE=Debug -DLAPLACIAN_DEFORMATION_BUILD_FUZZERS=ON \
       -DLAPLACIAN_DEFORMATION_BUILD_TESTS=OFF -DLAPLACIAN_DEFORMATION_BUILD_EXAMPLES=OFF \
       -DLAPLACIAN_DEFORMATION_BUILD_BENCHMARKS=OFF >/dev/null
-cmake --build "$fuzz" --target fuzz_botsch08 fuzz_deformer -j"$(nproc)"
-for target in botsch08 deformer; do
+cmake --build "$fuzz" --target fuzz_botsch08 fuzz_deformer fuzz_server -j"$(nproc)"
+for target in botsch08 deformer server; do
   work=$fuzz/smoke-$target
   rm -rf "$work" && mkdir -p "$work/corpus"
   cp "$here/test/Laplacian_deformation/fuzz/corpus/$target/"* "$work/corpus/"

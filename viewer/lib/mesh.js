@@ -48,6 +48,59 @@ export function setPositions(mesh, positions) {
   mesh.geometry.computeBoundingSphere();
 }
 
+/**
+ * What `setSomePositions` updates when only `vertices` of a mesh made by createFieldMesh move:
+ * the vertices whose normals change (those of the faces around the moving ones) and the faces
+ * their normals sum over. Computed once per set of moving vertices.
+ */
+export function movingRegion(mesh, vertices) {
+  const index = mesh.geometry.index.array, n = mesh.geometry.getAttribute('position').count;
+  const start = new Uint32Array(n + 1);   // vertex -> its faces, compressed rows
+  for(let i = 0; i < index.length; ++i) ++start[index[i] + 1];
+  for(let v = 0; v < n; ++v) start[v + 1] += start[v];
+  const faces = new Uint32Array(index.length), fill = start.slice(0, n);
+  for(let i = 0; i < index.length; ++i) faces[fill[index[i]]++] = (i / 3) | 0;
+  const affected = new Uint8Array(n);
+  for(const v of vertices)
+    for(let k = start[v]; k < start[v + 1]; ++k)
+      for(let c = 0; c < 3; ++c) affected[index[3 * faces[k] + c]] = 1;
+  const regionVertices = [], seen = new Uint8Array(index.length / 3), regionFaces = [];
+  for(let v = 0; v < n; ++v) {
+    if(!affected[v]) continue;
+    regionVertices.push(v);
+    for(let k = start[v]; k < start[v + 1]; ++k) if(!seen[faces[k]]) { seen[faces[k]] = 1; regionFaces.push(faces[k]); }
+  }
+  return { moving: Int32Array.from(vertices), vertices: Uint32Array.from(regionVertices), faces: Uint32Array.from(regionFaces), affected };
+}
+
+/**
+ * Moves the vertices `region.moving` (see movingRegion) of a mesh to `xyz` (x, y, z each, in that
+ * order) and recomputes only the normals that change -- the same normals as computeVertexNormals
+ * (the sum of the adjacent faces' cross products, normalised) for a fraction of its cost.
+ */
+export function setSomePositions(mesh, region, xyz) {
+  if(xyz.length !== 3 * region.moving.length)
+    throw new Error(`got ${xyz.length / 3} positions for ${region.moving.length} moving vertices`);
+  const geometry = mesh.geometry, position = geometry.getAttribute('position'), normal = geometry.getAttribute('normal');
+  const p = position.array, q = normal.array, index = geometry.index.array, affected = region.affected;
+  region.moving.forEach((v, i) => { p[3 * v] = xyz[3 * i]; p[3 * v + 1] = xyz[3 * i + 1]; p[3 * v + 2] = xyz[3 * i + 2]; });
+  for(const v of region.vertices) q[3 * v] = q[3 * v + 1] = q[3 * v + 2] = 0;
+  for(const f of region.faces) {
+    const a = 3 * index[3 * f], b = 3 * index[3 * f + 1], c = 3 * index[3 * f + 2];
+    const cbx = p[c] - p[b], cby = p[c + 1] - p[b + 1], cbz = p[c + 2] - p[b + 2];
+    const abx = p[a] - p[b], aby = p[a + 1] - p[b + 1], abz = p[a + 2] - p[b + 2];
+    const nx = cby * abz - cbz * aby, ny = cbz * abx - cbx * abz, nz = cbx * aby - cby * abx;
+    for(const w of [a, b, c]) if(affected[w / 3]) { q[w] += nx; q[w + 1] += ny; q[w + 2] += nz; }
+  }
+  for(const v of region.vertices) {
+    const l = Math.hypot(q[3 * v], q[3 * v + 1], q[3 * v + 2]) || 1;
+    q[3 * v] /= l; q[3 * v + 1] /= l; q[3 * v + 2] /= l;
+  }
+  position.needsUpdate = true;
+  normal.needsUpdate = true;
+  geometry.computeBoundingSphere();
+}
+
 /** The bounding box of several meshes (world coordinates). */
 export function boundsOf(objects) {
   const box = new THREE.Box3();

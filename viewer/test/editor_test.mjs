@@ -2,7 +2,10 @@
 // C++ server on a free port, opens the editor, paints a region of interest and a handle with the
 // mouse, drags the handle (translate, then Ctrl-drag to rotate), switches the representation, and
 // checks that the mesh moved, the handle reached its target, one factorisation served every drag,
-// and malformed requests get 400. Writes a screenshot (editor.png) to --out.
+// and malformed requests get 400; that the page shows its round trip, the drag replies are binary
+// and not compressed, two drags sent back to back end at the second one (the first never applied
+// after it), API calls without the token or from another origin are refused, and a second server
+// on a taken port fails naming the port. Writes a screenshot (editor.png) to --out.
 //   usage: node viewer/test/editor_test.mjs --server PATH/laplacian_deform [--out DIR] [--chromium PATH]
 import { test, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -28,8 +31,8 @@ function startEditorServer() {
     const timer = setTimeout(() => reject(new Error(`the server printed no address in 60 s: ${text}`)), 60000);
     child.stdout.on('data', (chunk) => {
       text += chunk;
-      const m = /editor at (http:\/\/127\.0\.0\.1:\d+\/)/.exec(text);
-      if(m) { clearTimeout(timer); resolve({ child, url: m[1] }); }
+      const m = /editor at (http:\/\/127\.0\.0\.1:(\d+)\/)#token=([0-9a-f]{32})/.exec(text);
+      if(m) { clearTimeout(timer); resolve({ child, origin: m[1], port: Number(m[2]), token: m[3], url: `${m[1]}#token=${m[3]}` }); }
     });
     child.stderr.on('data', (chunk) => { text += chunk; });
     child.on('exit', (code) => { clearTimeout(timer); reject(new Error(`the server exited (${code}): ${text}`)); });
@@ -50,6 +53,11 @@ test('paint, drag, rotate, switch policy in the editor page', { timeout: 300000 
   const page = context.pages()[0] || await context.newPage();
   const errors = [];
   page.on('pageerror', (e) => errors.push(e.message));
+  const dragResponses = [];
+  page.on('response', async (r) => {
+    if(r.url().endsWith('/api/drag'))
+      dragResponses.push({ status: r.status(), headers: await r.allHeaders(), request: await r.request().allHeaders() });
+  });
   await page.goto(server.url);
   await page.waitForFunction(() => window.editor && window.editor.ready, null, { timeout: 120000 });
   const rest = await page.evaluate(() => window.editor.positions());
@@ -109,7 +117,19 @@ test('paint, drag, rotate, switch policy in the editor page', { timeout: 300000 
   assert.ok(moved.handleError < 1e-5 * diag, `the handle is ${moved.handleError} from its target`);
   assert.ok(moved.reply.handle_error < 1e-9 * diag, `server: handle error ${moved.reply.handle_error}`);
   assert.equal(moved.reply.factorizations, 1, 'one factorisation for every drag');
-  assert.match(await page.textContent('#timing'), /update [\d.]+ ms .* factorizations 1/);
+  assert.match(await page.textContent('#timing'), /^round trip [\d.]+ ms, update [\d.]+ ms .* server [\d.]+ ms, factorizations 1/);
+  const trip = await page.evaluate(() => window.editor.state.lastRoundTrip);
+  assert.ok(trip.ms > 0 && trip.ms >= trip.serverMs, `round trip ${trip.ms} ms, server ${trip.serverMs} ms`);
+  // the drag replies: binary frames of the moving vertices only, never compressed
+  assert.ok(dragResponses.length >= 1);
+  for(const r of dragResponses.filter((x) => x.status === 200)) {
+    assert.match(r.request['accept-encoding'] || '', /br|gzip/, 'the browser accepts compressed replies');
+    assert.equal(r.headers['content-encoding'], undefined, `drag reply encoded ${r.headers['content-encoding']}`);
+    assert.equal(r.headers['content-type'], 'application/octet-stream');
+  }
+  const moving = await page.evaluate(() => window.editor.state.moving.length);
+  assert.equal(moving, counts.roi + counts.handles);
+  assert.ok(trip.bytes < 4 + 2048 + 12 * moving, `a drag reply of ${trip.bytes} bytes for ${moving} moving vertices`);
   await page.screenshot({ path: path.join(out, 'editor.png') });
 
   // rotate: Ctrl-drag; the handle follows its rotated target, still one factorisation
@@ -137,12 +157,64 @@ test('paint, drag, rotate, switch policy in the editor page', { timeout: 300000 
   assert.ok(vertexBased.positions.some((x, i) => Math.abs(x - before[i]) > 1e-6 * diag), 'the representation changes the shape');
   assert.ok(vertexBased.handleError < 1e-5 * diag);
 
+  // two drags sent back to back: one is in flight, the other waits; the page ends at the second
+  // one's result and never applies the first after it; a third replacing the pending one is sent
+  // instead of it (only the latest pending drag is sent)
+  const coalesced = await page.evaluate(async () => {
+    const e = window.editor, s = e.state;
+    await e.idle();
+    const sentBefore = s.seq, appliedBefore = s.applied.length;
+    const m = (x) => [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, x, 0.5 * x, 0, 1];
+    e.drag(m(0.05));
+    e.drag(m(0.10));
+    e.drag(m(0.15));
+    await e.idle();
+    return { sent: s.seq - sentBefore, applied: s.applied.slice(appliedBefore), last: s.seq,
+             handleError: e.handleError(), transform: Array.from(s.transform.elements) };
+  });
+  assert.equal(coalesced.sent, 2, `drags sent: ${coalesced.sent} (the second was replaced by the third)`);
+  assert.equal(coalesced.applied[coalesced.applied.length - 1], coalesced.last, `applied ${coalesced.applied}`);
+  assert.ok(coalesced.applied.every((x, i, a) => i === 0 || a[i - 1] < x), `applied in order: ${coalesced.applied}`);
+  assert.equal(coalesced.transform[12], 0.15);
+  assert.ok(coalesced.handleError < 1e-5 * diag, `the page ends at the last drag: handle ${coalesced.handleError} from it`);
+  // the server's side: two drags racing (separate connections); whichever order they arrive in,
+  // the session ends at the newer one (seq), the older is dropped (409) or applied before it
+  const raced = await page.evaluate(async () => {
+    const s = window.editor.state, headers = { 'Content-Type': 'application/json', 'X-Editor-Token': window.editor.token };
+    const seq = s.seq + 1000;
+    const send = (k, x) => fetch('/api/drag', { method: 'POST', headers,
+      body: JSON.stringify({ session: s.session, seq: seq + k, translation: [x, 0, 0], iterations: 20 }) });
+    const [a, b] = await Promise.all([send(1, 0.01), send(2, 0.02)]);
+    const late = await send(0, 0.03);
+    const def = await (await fetch(`/api/download?session=${s.session}&format=def&token=${window.editor.token}`)).text();
+    return { a: a.status, aBody: await a.text(), b: b.status, late: late.status, lateBody: await late.text(), def };
+  });
+  assert.equal(raced.b, 200);
+  assert.ok(raced.a === 200 || (raced.a === 409 && /superseded/.test(raced.aBody)), `first: ${raced.a} ${raced.aBody}`);
+  assert.equal(raced.late, 409);
+  assert.match(raced.lateBody, /superseded: drag \d+ of this session was overtaken/);
+  const translation = raced.def.split('\n').filter((l) => /^\s*-?[\d.e+-]+(\s+-?[\d.e+-]+){3}\s*$/.test(l))[0].trim().split(/\s+/).map(Number);
+  assert.ok(Math.abs(translation[3] - 0.02) < 1e-9, `the session ends at the newer drag: .def row ${translation}`);
+
+  // refusals seen from a page: no token, another content type
+  const refused = await page.evaluate(async () => {
+    const s = window.editor.state.session;
+    const noToken = await fetch('/api/reset', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ session: s }) });
+    const plain = await fetch('/api/reset', { method: 'POST', headers: { 'X-Editor-Token': window.editor.token }, body: JSON.stringify({ session: s }) });
+    return { noToken: noToken.status, noTokenText: await noToken.text(), plain: plain.status, plainText: await plain.text() };
+  });
+  assert.equal(refused.noToken, 401);
+  assert.match(refused.noTokenText, /missing token/);
+  assert.equal(refused.plain, 415);
+  assert.match(refused.plainText, /Content-Type: application\/json/);
+
   // downloads, and malformed requests from the page
   const files = await page.evaluate(async () => {
-    const s = window.editor.state.session;
-    const get = async (f) => (await fetch(`/api/download?session=${s}&format=${f}`)).text();
-    const bad = await fetch('/api/drag', { method: 'POST', body: '{"session": ' });
-    const nan = await fetch('/api/drag', { method: 'POST', body: JSON.stringify({ session: s, translation: [0, 'NaN', 0] }) });
+    const s = window.editor.state.session, t = window.editor.token;
+    const headers = { 'Content-Type': 'application/json', 'X-Editor-Token': t };
+    const get = async (f) => (await fetch(`/api/download?session=${s}&format=${f}&token=${t}`)).text();
+    const bad = await fetch('/api/drag', { method: 'POST', headers, body: '{"session": ' });
+    const nan = await fetch('/api/drag', { method: 'POST', headers, body: JSON.stringify({ session: s, translation: [0, 'NaN', 0] }) });
     return { off: await get('off'), sel: await get('sel'), def: await get('def'), bad: bad.status, badText: await bad.text(),
              nan: nan.status, nanText: await nan.text() };
   });
@@ -159,4 +231,39 @@ test('paint, drag, rotate, switch policy in the editor page', { timeout: 300000 
   await page.click('#reset');
   await page.waitForFunction((r) => window.editor.positions().every((x, i) => Math.abs(x - r[i]) < 1e-5), rest);
   assert.deepEqual(errors, []);
+});
+
+test('the page without the token says so, and another origin is refused', { timeout: 120000 }, async () => {
+  const page = await context.newPage();
+  await page.goto(server.origin);
+  await page.waitForFunction(() => /no token in the address/.test(document.getElementById('message').textContent), null, { timeout: 60000 });
+  // a page of another origin (here about:blank posting to the server) is refused by its Origin
+  const other = await context.newPage();
+  const status = await other.evaluate(async ([url, token]) => {
+    try {
+      const r = await fetch(`${url}api/meshes?token=${token}`, { mode: 'cors' });
+      return r.status;
+    } catch(e) { return 'blocked'; }
+  }, [server.origin, server.token]);
+  assert.equal(status, 'blocked');   // no CORS header: the browser does not hand the reply to the page
+  const direct = await fetch(`${server.origin}api/meshes?token=${server.token}`, { headers: { Origin: 'http://evil.example' } });
+  assert.equal(direct.status, 403);
+  assert.match(await direct.text(), /from another site/);
+  const rebound = await fetch(`${server.origin}api/meshes?token=${server.token}`);
+  assert.equal(rebound.status, 200);
+  await page.close();
+  await other.close();
+});
+
+test('a second server on a taken port fails and names the port', { timeout: 60000 }, async () => {
+  const child = spawn(tool, ['--serve', '--port', String(server.port), '--output', path.join(out, 'saved2')], { stdio: ['ignore', 'pipe', 'pipe'] });
+  let text = '';
+  child.stdout.on('data', (c) => { text += c; });
+  child.stderr.on('data', (c) => { text += c; });
+  const code = await new Promise((resolve) => {
+    const timer = setTimeout(() => { child.kill(); resolve('still running'); }, 30000);
+    child.on('exit', (c) => { clearTimeout(timer); resolve(c); });
+  });
+  assert.equal(code, 1, text);
+  assert.match(text, new RegExp(`cannot listen on 127\\.0\\.0\\.1:${server.port} \\(is the port in use`));
 });

@@ -11,7 +11,7 @@ import { spawnSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
 import { parsePLY, writePLY, PlyError } from '../lib/ply.js';
 import { sampleColormap, sharedRange, fieldExtent, niceTicks, formatValue, fieldColors, COLORMAPS } from '../lib/colormap.js';
-import { createFieldMesh, setFieldColors, setPositions, defaultView } from '../lib/mesh.js';
+import { createFieldMesh, setFieldColors, setPositions, defaultView, movingRegion, setSomePositions } from '../lib/mesh.js';
 import { startServer, resolveInside, listTasks } from '../serve.mjs';
 import { writeSampleTask, edgeLengthDistortion, bumpyPlane } from '../tools/make_sample.mjs';
 import * as THREE from 'three';
@@ -112,6 +112,28 @@ test('meshes: one colour per vertex from the shared range, linear light; checks 
   const tall = defaultView(new THREE.Box3(new THREE.Vector3(0, 0, 0), new THREE.Vector3(1, 3, 0.6)));
   assert.deepEqual(tall.up.toArray(), [0, 1, 0]);
   assert.ok(tall.direction.z > 0.8);
+});
+
+test('meshes: moving some vertices updates their normals as recomputing all of them does', () => {
+  const plane = bumpyPlane(9);   // 9 x 9 vertices
+  const a = createFieldMesh({ ...plane, field: new Float32Array(81) }, { min: 0, max: 1 });
+  const b = createFieldMesh({ ...plane, field: new Float32Array(81) }, { min: 0, max: 1 });
+  const moving = [40, 41, 31, 49];   // around the middle
+  const region = movingRegion(a, moving);
+  assert.ok(region.vertices.length > moving.length && region.vertices.length < 81, `${region.vertices.length} normals change`);
+  const xyz = moving.flatMap((v, i) => [plane.positions[3 * v] + 0.01 * i, plane.positions[3 * v + 1], plane.positions[3 * v + 2] + 0.3]);
+  setSomePositions(a, region, xyz);
+  const all = Array.from(plane.positions);
+  moving.forEach((v, i) => { for(let k = 0; k < 3; ++k) all[3 * v + k] = xyz[3 * i + k]; });
+  setPositions(b, all);
+  const na = a.geometry.getAttribute('normal').array, nb = b.geometry.getAttribute('normal').array;
+  let worst = 0;
+  for(let i = 0; i < na.length; ++i) worst = Math.max(worst, Math.abs(na[i] - nb[i]));
+  assert.ok(worst < 1e-6, `normals differ by ${worst}`);
+  assert.deepEqual(Array.from(a.geometry.getAttribute('position').array), Array.from(b.geometry.getAttribute('position').array));
+  assert.ok(a.geometry.getAttribute('normal').array.some((x, i) => Math.abs(x - createFieldMesh({ ...plane, field: new Float32Array(81) },
+    { min: 0, max: 1 }).geometry.getAttribute('normal').array[i]) > 1e-3), 'the normals did change');
+  assert.throws(() => setSomePositions(a, region, [0, 0, 0]), /1 positions for 4 moving vertices/);
 });
 
 test('sample results: the distortion is 0 at rest and grows with the lift', () => {

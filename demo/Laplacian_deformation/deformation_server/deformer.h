@@ -1,0 +1,128 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+//
+// laplacian_deform --serve, the deformer of a session: representation x weights x transform
+// chosen at run time behind a type-erased interface, and the handle motion of a drag.
+#ifndef LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_DEFORMER_H
+#define LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_DEFORMER_H
+
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Laplacian_deformation/Mesh_deformer.h>
+#include <CGAL/Laplacian_deformation/Edge_based_representation.h>
+#include <CGAL/Laplacian_deformation/Vertex_based_representation.h>
+#include <CGAL/Laplacian_deformation/Cotangent_weights.h>
+#include <CGAL/Laplacian_deformation/Uniform_weights.h>
+#include <CGAL/Laplacian_deformation/Rotation_transform.h>
+#include <CGAL/Laplacian_deformation/Scaled_rotation_transform.h>
+#include <CGAL/Laplacian_deformation/Similarity_transform.h>
+
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <string>
+
+namespace Laplacian_deformation_server {
+
+namespace LD = CGAL::Laplacian_deformation;
+
+typedef CGAL::Simple_cartesian<double>               Kernel;
+typedef Kernel::Point_3                              Point_3;
+typedef CGAL::Surface_mesh<Point_3>                  Mesh;
+typedef boost::graph_traits<Mesh>::vertex_descriptor vertex_descriptor;
+
+/// The policies a session deforms with.
+struct Policy
+{
+  std::string representation = "edge";      ///< "edge" or "vertex"
+  std::string weights = "cotangent";        ///< "cotangent" or "uniform"
+  std::string transform = "scaled_rotation";///< "scaled_rotation" (S*R1), "rotation" or "similarity"
+};
+
+class Deformer_interface
+{
+public:
+  virtual ~Deformer_interface() = default;
+  virtual void insert_roi_vertex(vertex_descriptor v) = 0;
+  virtual void insert_control_vertex(vertex_descriptor v) = 0;
+  virtual bool preprocess() = 0;
+  virtual void set_target_position(vertex_descriptor v, const Point_3& p) = 0;
+  virtual LD::Deformation_result deform(unsigned int iterations, double tolerance) = 0;
+  virtual void reset() = 0;
+  virtual const LD::Deformation_result& last_result() const = 0;
+  virtual std::size_t number_of_factorizations() const = 0;
+};
+
+template <class Representation, class Weights, class Transform>
+class Deformer_model : public Deformer_interface
+{
+public:
+  explicit Deformer_model(Mesh& mesh) : m_deformer(mesh) {}
+  void insert_roi_vertex(vertex_descriptor v) override { m_deformer.insert_roi_vertex(v); }
+  void insert_control_vertex(vertex_descriptor v) override { m_deformer.insert_control_vertex(v); }
+  bool preprocess() override { return m_deformer.preprocess(); }
+  void set_target_position(vertex_descriptor v, const Point_3& p) override { m_deformer.set_target_position(v, p); }
+  LD::Deformation_result deform(unsigned int iterations, double tolerance) override
+  {
+    return m_deformer.deform(iterations, tolerance);
+  }
+  void reset() override { m_deformer.reset(); }
+  const LD::Deformation_result& last_result() const override { return m_deformer.last_result(); }
+  std::size_t number_of_factorizations() const override { return m_deformer.number_of_factorizations(); }
+
+private:
+  LD::Mesh_deformer<Mesh, Representation, Weights, Transform> m_deformer;
+};
+
+namespace internal {
+
+template <class R, class W>
+std::unique_ptr<Deformer_interface> make_deformer_t(Mesh& mesh, const std::string& transform)
+{
+  if(transform == "rotation")
+    return std::make_unique<Deformer_model<R, W, LD::Rotation_transform> >(mesh);
+  if(transform == "similarity")
+    return std::make_unique<Deformer_model<R, W, LD::Similarity_transform> >(mesh);
+  return std::make_unique<Deformer_model<R, W, LD::Scaled_rotation_transform> >(mesh);
+}
+template <class R>
+std::unique_ptr<Deformer_interface> make_deformer_w(Mesh& mesh, const Policy& p)
+{
+  return p.weights == "uniform" ? make_deformer_t<R, LD::Uniform_weights>(mesh, p.transform)
+                                : make_deformer_t<R, LD::Cotangent_weights>(mesh, p.transform);
+}
+
+} // namespace internal
+
+/// A deformer for `mesh` (whose current positions become the rest positions) with the policies of `p`
+/// (assumed valid; see `validate_policy`).
+inline std::unique_ptr<Deformer_interface> make_deformer(Mesh& mesh, const Policy& p)
+{
+  return p.representation == "vertex" ? internal::make_deformer_w<LD::Vertex_based_representation>(mesh, p)
+                                      : internal::make_deformer_w<LD::Edge_based_representation>(mesh, p);
+}
+
+/// The handle motion of the last drag: `p -> R (p - center) + center + translation`.
+struct Drag
+{
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  double angle = 0;
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  unsigned int iterations = 4;
+
+  /// the 4x4 affine matrix (Botsch08 .def).
+  Eigen::Matrix4d matrix() const
+  {
+    const Eigen::Matrix3d r = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    m.topLeftCorner<3, 3>() = r;
+    m.topRightCorner<3, 1>() = translation + center - r * center;
+    return m;
+  }
+};
+
+} // namespace Laplacian_deformation_server
+
+#endif // LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_DEFORMER_H

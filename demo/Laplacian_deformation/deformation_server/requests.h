@@ -1,0 +1,314 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+//
+// laplacian_deform --serve, requests and replies: the reply type, the checks of a request's JSON
+// members (every refusal names the member), file names, the generated default mesh, k-rings, and
+// the encodings of positions (JSON arrays, or the binary frame of the drag replies).
+#ifndef LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_REQUESTS_H
+#define LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_REQUESTS_H
+
+#include "deformation_server/deformer.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace Laplacian_deformation_server {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+/// The content types of the replies. cpp-httplib compresses a reply when the client accepts it and
+/// its type is exactly "application/json" or "application/javascript" or starts with "text/"
+/// (Debian's build: Brotli at its slowest quality, seconds per megabyte). On the loopback
+/// interface compression only costs time, so the large replies use types it leaves alone:
+/// "...; charset=utf-8" and the binary frame (test_server checks the Content-Encoding header).
+inline const char* json_type() { return "application/json; charset=utf-8"; }
+inline const char* javascript_type() { return "application/javascript; charset=utf-8"; }
+inline const char* binary_type() { return "application/octet-stream"; }
+
+/// An answer: HTTP status, body and its type; `filename` makes it a download; `cache_control` and
+/// `etag` are the HTTP headers (API replies are never cached).
+struct Reply
+{
+  int status = 200;
+  std::string body;
+  std::string content_type = json_type();
+  std::string filename;
+  std::string cache_control = "no-store";
+  std::string etag;
+};
+
+// (bytes that are not UTF-8, as a URL or a header echoed in an error message may hold, are
+// replaced by U+FFFD: nlohmann-json would throw)
+inline std::string dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
+inline Reply json_reply(const json& j, int status = 200)
+{
+  Reply r;
+  r.status = status;
+  r.body = dump(j);
+  return r;
+}
+inline Reply error_reply(int status, const std::string& message) { return json_reply(json{{"error", message}}, status); }
+
+/// A request error: becomes a 4xx reply with {"error": message}.
+struct Request_error
+{
+  int status;
+  std::string message;
+};
+
+namespace internal {
+
+inline json parse_object(const std::string& body)
+{
+  json j = json::parse(body, nullptr, false);
+  if(j.is_discarded())
+    throw Request_error{400, "the request body is not valid JSON"};
+  if(!j.is_object())
+    throw Request_error{400, "the request body must be a JSON object"};
+  return j;
+}
+
+inline double finite_number(const json& j, const std::string& what)
+{
+  if(!j.is_number())
+    throw Request_error{400, what + " must be a number"};
+  const double x = j.get<double>();
+  if(!std::isfinite(x))
+    throw Request_error{400, what + " must be finite"};
+  return x;
+}
+
+inline Eigen::Vector3d vector3(const json& j, const std::string& what)
+{
+  if(!j.is_array() || j.size() != 3)
+    throw Request_error{400, what + " must be an array of 3 numbers"};
+  return Eigen::Vector3d(finite_number(j[0], what + "[0]"), finite_number(j[1], what + "[1]"),
+                         finite_number(j[2], what + "[2]"));
+}
+
+inline long long integer(const json& j, const std::string& what, long long lo, long long hi)
+{
+  if(!j.is_number_integer())
+    throw Request_error{400, what + " must be an integer"};
+  const long long k = j.get<long long>();
+  if(k < lo || k > hi)
+    throw Request_error{400, what + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]"};
+  return k;
+}
+
+inline std::vector<vertex_descriptor> vertex_ids(const json& body, const char* key, std::size_t n)
+{
+  std::vector<vertex_descriptor> ids;
+  if(!body.contains(key))
+    return ids;
+  const json& a = body[key];
+  if(!a.is_array())
+    throw Request_error{400, std::string(key) + " must be an array of vertex ids"};
+  ids.reserve(a.size());
+  for(std::size_t i = 0; i < a.size(); ++i)
+  {
+    const std::string what = std::string(key) + "[" + std::to_string(i) + "]";
+    if(!a[i].is_number_integer())
+      throw Request_error{400, what + " must be an integer vertex id"};
+    const long long k = a[i].get<long long>();
+    if(k < 0 || std::size_t(k) >= n)
+      throw Request_error{400, what + ": unknown vertex id " + std::to_string(k) + " (the mesh has " +
+                                   std::to_string(n) + " vertices)"};
+    ids.push_back(vertex_descriptor(static_cast<Mesh::size_type>(k)));
+  }
+  return ids;
+}
+
+inline std::string string_member(const json& body, const char* key)
+{
+  if(!body.contains(key))
+    throw Request_error{400, std::string("missing \"") + key + "\""};
+  if(!body[key].is_string())
+    throw Request_error{400, std::string(key) + " must be a string"};
+  return body[key].get<std::string>();
+}
+
+inline bool boolean_member(const json& body, const char* key, bool fallback)
+{
+  if(!body.contains(key))
+    return fallback;
+  if(!body[key].is_boolean())
+    throw Request_error{400, std::string(key) + " must be true or false"};
+  return body[key].get<bool>();
+}
+
+// letters, digits, '_', '-' (and '.' if allowed); not empty, at most 128, not starting with '.' or
+// '-' (a name must never look like an option of a command it is later given to)
+inline bool is_plain_name(const std::string& s, bool allow_dot)
+{
+  if(s.empty() || s.size() > 128 || s[0] == '.' || s[0] == '-')
+    return false;
+  for(char c : s)
+    if(!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || (allow_dot && c == '.')))
+      return false;
+  return true;
+}
+
+inline std::string lower_extension(const fs::path& p)
+{
+  std::string e = p.extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return e;
+}
+
+inline bool is_mesh_file_name(const std::string& name)
+{
+  const std::string e = lower_extension(name);
+  return is_plain_name(name, true) && (e == ".off" || e == ".obj" || e == ".ply" || e == ".stl");
+}
+
+// a wavy square, 41 x 41 vertices: the default mesh when the cactus is absent
+inline Mesh bumpy_plane(int n = 40)
+{
+  Mesh m;
+  const double pi = 3.14159265358979323846;
+  std::vector<vertex_descriptor> v;
+  for(int j = 0; j <= n; ++j)
+    for(int i = 0; i <= n; ++i)
+    {
+      const double x = double(i) / n, y = double(j) / n;
+      v.push_back(m.add_vertex(Point_3(x, y, 0.08 * std::sin(2 * pi * x) * std::cos(2 * pi * y))));
+    }
+  auto at = [&](int i, int j) { return v[std::size_t(j * (n + 1) + i)]; };
+  for(int j = 0; j < n; ++j)
+    for(int i = 0; i < n; ++i)
+    {
+      m.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      m.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  return m;
+}
+
+// vertices within k rings of `seeds`
+inline std::vector<vertex_descriptor> grow(const Mesh& m, const std::vector<vertex_descriptor>& seeds, int k)
+{
+  std::vector<int> ring(num_vertices(m), -1);
+  std::vector<vertex_descriptor> out, front;
+  for(vertex_descriptor v : seeds)
+    if(ring[v] < 0)
+    {
+      ring[v] = 0;
+      out.push_back(v);
+      front.push_back(v);
+    }
+  for(int r = 1; r <= k && !front.empty(); ++r)
+  {
+    std::vector<vertex_descriptor> next;
+    for(vertex_descriptor v : front)
+      for(vertex_descriptor w : CGAL::vertices_around_target(m.halfedge(v), m))
+        if(ring[w] < 0)
+        {
+          ring[w] = r;
+          out.push_back(w);
+          next.push_back(w);
+        }
+    front.swap(next);
+  }
+  return out;
+}
+
+inline json positions_json(const Mesh& m)
+{
+  json a = json::array();
+  for(vertex_descriptor v : m.vertices())
+  {
+    const Point_3& p = m.point(v);
+    a.push_back(p.x());
+    a.push_back(p.y());
+    a.push_back(p.z());
+  }
+  return a;
+}
+
+// the positions of `vertices` of `m` (x, y, z each), as a JSON array
+inline json positions_json(const Mesh& m, const std::vector<vertex_descriptor>& vertices)
+{
+  json a = json::array();
+  for(vertex_descriptor v : vertices)
+  {
+    const Point_3& p = m.point(v);
+    a.push_back(p.x());
+    a.push_back(p.y());
+    a.push_back(p.z());
+  }
+  return a;
+}
+
+inline void append_le32(std::string& out, std::uint32_t x)
+{
+  for(int k = 0; k < 4; ++k)
+    out.push_back(char((x >> (8 * k)) & 0xffu));
+}
+
+} // namespace internal
+
+/// The binary frame of a drag reply (`"binary": true`): a little-endian uint32 L, L bytes of a
+/// JSON object (`header`, padded with spaces so that the floats start at a multiple of 4), then
+/// x, y, z as little-endian float32 for each of `vertices` (the session's moving vertices, in the
+/// order of the selection reply's "moving").
+inline std::string encode_frame(const json& header, const Mesh& m, const std::vector<vertex_descriptor>& vertices)
+{
+  std::string text = dump(header);
+  while((4 + text.size()) % 4 != 0)
+    text.push_back(' ');
+  std::string out;
+  out.reserve(4 + text.size() + 12 * vertices.size());
+  internal::append_le32(out, std::uint32_t(text.size()));
+  out += text;
+  for(vertex_descriptor v : vertices)
+  {
+    const Point_3& p = m.point(v);
+    for(double c : {p.x(), p.y(), p.z()})
+    {
+      const float f = float(c);
+      std::uint32_t bits;
+      std::memcpy(&bits, &f, 4);
+      internal::append_le32(out, bits);
+    }
+  }
+  return out;
+}
+
+/// Decodes `encode_frame` (for tests and the fuzz target): false if `frame` is not one.
+inline bool decode_frame(const std::string& frame, json& header, std::vector<float>& xyz)
+{
+  if(frame.size() < 4)
+    return false;
+  std::uint32_t n = 0;
+  for(int k = 0; k < 4; ++k)
+    n |= std::uint32_t(static_cast<unsigned char>(frame[std::size_t(k)])) << (8 * k);
+  if(n > frame.size() - 4 || (frame.size() - 4 - n) % 12 != 0 || (4 + n) % 4 != 0)
+    return false;
+  header = json::parse(frame.substr(4, n), nullptr, false);
+  if(!header.is_object())
+    return false;
+  xyz.resize((frame.size() - 4 - n) / 4);
+  for(std::size_t i = 0; i < xyz.size(); ++i)
+  {
+    std::uint32_t bits = 0;
+    for(int k = 0; k < 4; ++k)
+      bits |= std::uint32_t(static_cast<unsigned char>(frame[4 + n + 4 * i + std::size_t(k)])) << (8 * k);
+    std::memcpy(&xyz[i], &bits, 4);
+  }
+  return true;
+}
+
+} // namespace Laplacian_deformation_server
+
+#endif // LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_REQUESTS_H

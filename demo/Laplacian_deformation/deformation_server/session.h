@@ -1,0 +1,263 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+//
+// laplacian_deform --serve, one browser session: its mesh, selection, deformer and last drag, and
+// what is done to it (the caller holds the session's lock): open a mesh, rebuild and preprocess the
+// deformer, apply a drag, write the mesh and the Botsch08 task as files.
+#ifndef LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_SESSION_H
+#define LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_SESSION_H
+
+#include "deformation_server/requests.h"
+
+#include <CGAL/boost/graph/IO/polygon_mesh_io.h>
+#include <CGAL/boost/graph/helpers.h>
+#include <CGAL/Laplacian_deformation/IO/Botsch08.h>
+
+#include <atomic>
+#include <chrono>
+#include <fstream>
+#include <mutex>
+#include <optional>
+#include <sstream>
+
+namespace Laplacian_deformation_server {
+
+/// One browser session. `mutex` is held for the whole of each request on the session.
+struct Session
+{
+  std::mutex mutex;
+  std::atomic<std::uint64_t> newest_drag{0};      // the highest drag sequence number received
+  std::uint64_t applied_drag = 0;                 // the sequence number of the drag applied last
+  std::atomic<std::chrono::steady_clock::rep> last_used{0};
+  std::string mesh_name;
+  std::string stem;                               // the downloads' file names
+  Mesh rest, mesh;
+  Policy policy;
+  std::unique_ptr<Deformer_interface> deformer;   // null until a selection is preprocessed
+  std::vector<vertex_descriptor> roi, handles;    // roi excludes the handles
+  std::vector<vertex_descriptor> moving;          // roi then handles: the order of the drag replies' positions
+  std::optional<Drag> drag;
+};
+
+/// The file names of the meshes a page may open: "default", then those of `data_dir`.
+inline json mesh_names(const std::string& data_dir)
+{
+  json names = json::array({"default"});
+  std::error_code ec;
+  std::vector<std::string> found;
+  for(fs::directory_iterator it(data_dir, ec), end; !ec && it != end; it.increment(ec))
+    if(it->is_regular_file() && internal::is_mesh_file_name(it->path().filename().string()))
+      found.push_back(it->path().filename().string());
+  std::sort(found.begin(), found.end());
+  for(const std::string& f : found) names.push_back(f);
+  return names;
+}
+
+/// The mesh `name` ("default" or a file name of the data folder), geometry only; `stem` gets the
+/// downloads' base name.
+template <class Options>
+Mesh load_mesh(const Options& options, const std::string& name, std::string& stem)
+{
+  Mesh m;
+  fs::path file;
+  if(name == "default")
+  {
+    file = !options.mesh.empty() ? fs::path(options.mesh) : fs::path(options.data_dir) / "cactus.off";
+    if(options.mesh.empty() && !fs::is_regular_file(file))
+    {
+      stem = "bumpy_plane";
+      return internal::bumpy_plane();
+    }
+  }
+  else
+  {
+    if(!internal::is_mesh_file_name(name))
+      throw Request_error{400, "mesh must be \"default\" or a file name (.off, .obj, .ply, .stl) of the data folder, got \"" + name + "\""};
+    file = fs::path(options.data_dir) / name;
+  }
+  if(!fs::is_regular_file(file) || !CGAL::IO::read_polygon_mesh(file.string(), m) || is_empty(m))
+    throw Request_error{400, "cannot read a mesh from " + (name == "default" ? file.string() : name)};
+  if(!CGAL::is_triangle_mesh(m))
+    throw Request_error{400, name + ": the mesh has non-triangle faces"};
+  if(num_vertices(m) > options.max_vertices)
+    throw Request_error{400, name + ": more than " + std::to_string(options.max_vertices) + " vertices"};
+  if(m.has_garbage())
+    m.collect_garbage();
+  // only the geometry: colours or normals read with the file would go into the downloads
+  Mesh clean;
+  for(vertex_descriptor v : m.vertices())
+    clean.add_vertex(m.point(v));
+  for(auto f : m.faces())
+  {
+    std::vector<vertex_descriptor> corners;
+    for(vertex_descriptor v : CGAL::vertices_around_face(m.halfedge(f), m))
+      corners.push_back(v);
+    clean.add_face(corners);
+  }
+  stem = file.stem().string();
+  if(!internal::is_plain_name(stem, false))
+    stem = "mesh";
+  return clean;
+}
+
+inline json policy_json(const Policy& p)
+{
+  return json{{"representation", p.representation}, {"weights", p.weights}, {"transform", p.transform}};
+}
+
+inline void validate_policy(const Policy& p)
+{
+  if(p.representation != "edge" && p.representation != "vertex")
+    throw Request_error{400, "representation must be \"edge\" or \"vertex\", got \"" + p.representation + "\""};
+  if(p.weights != "cotangent" && p.weights != "uniform")
+    throw Request_error{400, "weights must be \"cotangent\" or \"uniform\", got \"" + p.weights + "\""};
+  if(p.transform != "scaled_rotation" && p.transform != "rotation" && p.transform != "similarity")
+    throw Request_error{400, "transform must be \"scaled_rotation\", \"rotation\" or \"similarity\", got \"" +
+                                 p.transform + "\""};
+}
+
+/// builds the session's deformer on its rest mesh and preprocesses its selection (if any)
+inline void rebuild(Session& s)
+{
+  s.deformer.reset();
+  s.mesh = s.rest;
+  s.moving = s.roi;
+  s.moving.insert(s.moving.end(), s.handles.begin(), s.handles.end());
+  if(s.handles.empty())
+    return;
+  auto d = make_deformer(s.mesh, s.policy);
+  for(vertex_descriptor v : s.roi) d->insert_roi_vertex(v);
+  for(vertex_descriptor v : s.handles) d->insert_control_vertex(v);
+  if(!d->preprocess())
+  {
+    const std::string message = d->last_result().message;
+    s.roi.clear();
+    s.handles.clear();
+    s.moving.clear();
+    s.drag.reset();
+    throw Request_error{400, "cannot preprocess this selection: " + message};
+  }
+  s.deformer = std::move(d);
+}
+
+/// The drag described by a request body (`center` left at 0: the caller sets the default).
+inline Drag parse_drag(const json& body)
+{
+  Drag d;
+  if(body.contains("translation"))
+    d.translation = internal::vector3(body["translation"], "translation");
+  if(body.contains("rotation"))
+  {
+    const json& r = body["rotation"];
+    if(!r.is_object())
+      throw Request_error{400, "rotation must be an object {axis, angle, center}"};
+    d.axis = internal::vector3(r.contains("axis") ? r["axis"] : json(), "rotation.axis");
+    if(!(d.axis.norm() > 1e-12))
+      throw Request_error{400, "rotation.axis must not be zero"};
+    d.angle = internal::finite_number(r.contains("angle") ? r["angle"] : json(), "rotation.angle");
+    if(r.contains("center"))
+      d.center = internal::vector3(r["center"], "rotation.center");
+  }
+  if(body.contains("iterations"))
+    d.iterations = unsigned(internal::integer(body["iterations"], "iterations", 1, 100));
+  return d;
+}
+
+inline Eigen::Vector3d handle_centroid(const Session& s)
+{
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for(vertex_descriptor v : s.handles)
+  {
+    const Point_3& p = s.rest.point(v);
+    c += Eigen::Vector3d(p.x(), p.y(), p.z());
+  }
+  return s.handles.empty() ? c : Eigen::Vector3d(c / double(s.handles.size()));
+}
+
+/// sets the targets of the drag and deforms; returns the timings (the positions are in s.mesh)
+inline json apply_drag(Session& s, const Drag& d, std::chrono::steady_clock::time_point t0)
+{
+  const Eigen::Matrix4d m = d.matrix();
+  auto target = [&m, &s](vertex_descriptor v) {
+    const Point_3& p = s.rest.point(v);
+    const Eigen::Vector4d q = m * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.);
+    return Point_3(q.x(), q.y(), q.z());
+  };
+  for(vertex_descriptor v : s.handles)
+    s.deformer->set_target_position(v, target(v));
+  const LD::Deformation_result r = s.deformer->deform(d.iterations, 0.);
+  if(!r)
+    throw Request_error{400, "the deformation failed: " + r.message};
+  s.drag = d;
+  double error = 0;
+  for(vertex_descriptor v : s.handles)
+    error = (std::max)(error, std::sqrt(CGAL::squared_distance(s.mesh.point(v), target(v))));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return json{{"seconds", r.seconds}, {"local_step_seconds", r.local_step_seconds},
+              {"right_hand_side_seconds", r.right_hand_side_seconds}, {"solve_seconds", r.solve_seconds},
+              {"iterations", r.iterations}, {"energy", r.energy}, {"handler_seconds", seconds},
+              {"factorizations", s.deformer->number_of_factorizations()}, {"handle_error", error}};
+}
+
+/// the session's mesh (off, ply), selection (sel) or handle transformation (def) as text
+inline std::string file_text(const Session& s, const std::string& format)
+{
+  std::ostringstream out;
+  out.precision(17);
+  bool ok = false;
+  if(format == "off")
+    ok = CGAL::IO::write_OFF(out, s.mesh, CGAL::parameters::stream_precision(17));
+  else if(format == "ply")
+    ok = CGAL::IO::write_PLY(out, s.mesh, CGAL::parameters::use_binary_mode(false).stream_precision(17));
+  else if(format == "sel")
+  {
+    std::vector<int> status(num_vertices(s.mesh), LD::IO::BOTSCH08_FIXED);
+    for(vertex_descriptor v : s.roi) status[v] = LD::IO::BOTSCH08_REGION_OF_INTEREST;
+    for(vertex_descriptor v : s.handles) status[v] = LD::IO::BOTSCH08_HANDLE;
+    ok = LD::IO::write_botsch08_selection(out, status);
+  }
+  else if(format == "def")
+    ok = LD::IO::write_botsch08_transform(out, s.drag ? s.drag->matrix() : Eigen::Matrix4d::Identity().eval());
+  else
+    throw Request_error{400, "format must be off, ply, sel or def, got \"" + format + "\""};
+  if(!ok)
+    throw Request_error{500, "cannot write the " + format + " file"};
+  return out.str();
+}
+
+/// writes NAME.off, NAME.sel and NAME.def into `folder` (and nowhere else); returns their paths.
+/// NAME: 1 to 64 letters, digits, '_' or '-', not starting with '-' (no '.', no path separator:
+/// the three extensions are the server's).
+inline json save_files(const Session& s, const std::string& folder_name, const std::string& name)
+{
+  if(!internal::is_plain_name(name, false) || name.size() > 64)
+    throw Request_error{400, "name must be 1 to 64 letters, digits, '_' or '-' (not first; no '.', no '/': the server adds "
+                             ".off, .sel and .def), got \"" + name + "\""};
+  const fs::path folder(folder_name);
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  if(ec)
+    throw Request_error{500, "cannot create the output folder " + folder.string() + ": " + ec.message()};
+  json files = json::array();
+  for(const char* format : {"off", "sel", "def"})
+  {
+    const std::string text = file_text(s, format);
+    const fs::path path = folder / (name + "." + format), tmp = folder / (".tmp." + name + "." + format);
+    {
+      std::ofstream out(tmp, std::ios::binary);
+      out << text;
+      if(!out)
+        throw Request_error{500, "cannot write " + tmp.string()};
+    }
+    fs::rename(tmp, path, ec);
+    if(ec)
+      throw Request_error{500, "cannot write " + path.string() + ": " + ec.message()};
+    files.push_back(path.string());
+  }
+  return files;
+}
+
+} // namespace Laplacian_deformation_server
+
+#endif // LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_SESSION_H
