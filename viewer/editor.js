@@ -117,7 +117,7 @@ async function openMesh(name) {
   state.transform.identity();
   state.updates = 0;
   state.lastReply = null;
-  for(const key of ['representation', 'weights', 'transform']) $(key).value = reply.policy[key];
+  for(const key of ['representation', 'weights', 'transform', 'start']) $(key).value = reply.policy[key];
   state.mesh = createFieldMesh({ positions: reply.vertices, indices: reply.faces, field: new Float32Array(state.n) },
                                { min: 0, max: 1 });
   view.setPanels([{ title: reply.mesh === 'default' ? 'default mesh' : reply.mesh, object: state.mesh }]);
@@ -140,6 +140,9 @@ function showTiming(reply, roundTrip) {
     `update ${ms(reply.seconds)} ms (local ${ms(reply.local_step_seconds)}, rhs ` +
     `${ms(reply.right_hand_side_seconds)}, solve ${ms(reply.solve_seconds)}), ${reply.iterations} it, ` +
     `server ${ms(reply.handler_seconds)} ms, factorizations ${reply.factorizations}`;
+  // the deformation succeeded, but the library flags results that may not be what was meant
+  const warnings = reply.warnings || [];
+  if(warnings.length) message('warning: ' + warnings.map((w) => w.message).join('; '));
 }
 
 /** Sends the painted selection (preprocess: one factorisation) if it changed. */
@@ -317,7 +320,7 @@ $('clear').addEventListener('click', async () => {
 async function changePolicy() {
   try {
     const body = { session: state.session };
-    for(const key of ['representation', 'weights', 'transform']) body[key] = $(key).value;
+    for(const key of ['representation', 'weights', 'transform', 'start']) body[key] = $(key).value;
     const epoch = state.epoch, t0 = performance.now();
     const { header: reply, xyz } = await apiFrame('/api/policy', body);
     // a selection painted since the last drag is sent at the next drag: until then the mesh stays at rest
@@ -327,7 +330,7 @@ async function changePolicy() {
     message('');
   } catch(e) { message(e.message); }
 }
-for(const key of ['representation', 'weights', 'transform']) $(key).addEventListener('change', changePolicy);
+for(const key of ['representation', 'weights', 'transform', 'start']) $(key).addEventListener('change', changePolicy);
 $('mesh').addEventListener('change', () => openMesh($('mesh').value).catch((e) => message(e.message)));
 
 // ---- hooks for scripts and tests (they drive the same functions as the mouse)

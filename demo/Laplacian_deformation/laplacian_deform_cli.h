@@ -1023,16 +1023,7 @@ inline const char* status_name(LD::Deformation_status s)
   return "UNKNOWN";
 }
 
-inline const char* warning_name(LD::Deformation_warning_kind k)
-{
-  switch(k)
-  {
-    case LD::FOLDED_FACES: return "FOLDED_FACES";
-    case LD::HANDLE_TOUCHES_FIXED: return "HANDLE_TOUCHES_FIXED";
-    case LD::NO_MOTION: return "NO_MOTION";
-  }
-  return "UNKNOWN";
-}
+inline const char* warning_name(LD::Deformation_warning_kind k) { return LD::warning_kind_name(k); }
 
 inline const char* transform_label(const std::string& t)
 {

@@ -136,6 +136,7 @@ TEST_F(Server_test, malformed_requests_get_clear_errors_and_change_nothing)
   EXPECT_NE(error("/api/policy", "{" + s + ",\"representation\":1}").find("representation must be a string"),
             std::string::npos);
   EXPECT_NE(error("/api/policy", "{" + s + ",\"transform\":\"shear\"}").find("transform must be"), std::string::npos);
+  EXPECT_NE(error("/api/policy", "{" + s + ",\"start\":\"harmonic\"}").find("start must be"), std::string::npos);
   EXPECT_NE(error("/api/reset", "{" + s + ",\"selection\":\"yes\"}").find("selection must be true or false"),
             std::string::npos);
   EXPECT_NE(error("/api/nothing", "{}", 404).find("no such API"), std::string::npos);
@@ -273,8 +274,12 @@ TEST_F(Server_test, drags_move_targets_without_refactoring)
   }
   // the same drag with other policies: a new deformer (one factorisation), a different shape
   const json p = post("/api/policy", {{"session", id}, {"representation", "vertex"}, {"weights", "uniform"},
-                                      {"transform", "rotation"}});
+                                      {"transform", "rotation"}, {"start", "rotation"}});
   EXPECT_EQ(p["policy"]["representation"], "vertex");
+  EXPECT_EQ(p["policy"]["start"], "rotation");
+  ASSERT_TRUE(p["warnings"].is_array());              // the library's warnings, passed on
+  for(const json& w : p["warnings"])
+    EXPECT_TRUE(w["kind"].is_string() && w["message"].is_string());
   EXPECT_EQ(p["factorizations"], 1);
   EXPECT_LT(p["handle_error"].get<double>(), 1e-9);
   EXPECT_EQ(p["positions"].size(), 3 * moving.size());

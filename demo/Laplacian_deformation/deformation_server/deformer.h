@@ -38,6 +38,7 @@ struct Policy
   std::string representation = "edge";      ///< "edge" or "vertex"
   std::string weights = "cotangent";        ///< "cotangent" or "uniform"
   std::string transform = "scaled_rotation";///< "scaled_rotation" (S*R1), "rotation" or "similarity"
+  std::string start = "identity";           ///< "identity" or "rotation" (Mesh_deformer::set_start)
 };
 
 class Deformer_interface
@@ -50,6 +51,7 @@ public:
   virtual void set_target_position(vertex_descriptor v, const Point_3& p) = 0;
   virtual LD::Deformation_result deform(unsigned int iterations, double tolerance) = 0;
   virtual void reset() = 0;
+  virtual void set_start(LD::Deformation_start start) = 0;
   virtual const LD::Deformation_result& last_result() const = 0;
   virtual std::size_t number_of_factorizations() const = 0;
 };
@@ -68,6 +70,7 @@ public:
     return m_deformer.deform(iterations, tolerance);
   }
   void reset() override { m_deformer.reset(); }
+  void set_start(LD::Deformation_start start) override { m_deformer.set_start(start); }
   const LD::Deformation_result& last_result() const override { return m_deformer.last_result(); }
   std::size_t number_of_factorizations() const override { return m_deformer.number_of_factorizations(); }
 
@@ -99,8 +102,11 @@ std::unique_ptr<Deformer_interface> make_deformer_w(Mesh& mesh, const Policy& p)
 /// (assumed valid; see `validate_policy`).
 inline std::unique_ptr<Deformer_interface> make_deformer(Mesh& mesh, const Policy& p)
 {
-  return p.representation == "vertex" ? internal::make_deformer_w<LD::Vertex_based_representation>(mesh, p)
-                                      : internal::make_deformer_w<LD::Edge_based_representation>(mesh, p);
+  std::unique_ptr<Deformer_interface> d =
+      p.representation == "vertex" ? internal::make_deformer_w<LD::Vertex_based_representation>(mesh, p)
+                                   : internal::make_deformer_w<LD::Edge_based_representation>(mesh, p);
+  d->set_start(p.start == "rotation" ? LD::ROTATION_START : LD::IDENTITY_START);
+  return d;
 }
 
 /// The handle motion of the last drag: `p -> R (p - center) + center + translation`.

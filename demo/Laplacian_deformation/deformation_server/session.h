@@ -103,7 +103,8 @@ Mesh load_mesh(const Options& options, const std::string& name, std::string& ste
 
 inline json policy_json(const Policy& p)
 {
-  return json{{"representation", p.representation}, {"weights", p.weights}, {"transform", p.transform}};
+  return json{{"representation", p.representation}, {"weights", p.weights}, {"transform", p.transform},
+              {"start", p.start}};
 }
 
 inline void validate_policy(const Policy& p)
@@ -115,6 +116,8 @@ inline void validate_policy(const Policy& p)
   if(p.transform != "scaled_rotation" && p.transform != "rotation" && p.transform != "similarity")
     throw Request_error{400, "transform must be \"scaled_rotation\", \"rotation\" or \"similarity\", got \"" +
                                  p.transform + "\""};
+  if(p.start != "identity" && p.start != "rotation")
+    throw Request_error{400, "start must be \"identity\" or \"rotation\", got \"" + p.start + "\""};
 }
 
 /// builds the session's deformer on its rest mesh and preprocesses its selection (if any)
@@ -194,7 +197,10 @@ inline json apply_drag(Session& s, const Drag& d, std::chrono::steady_clock::tim
   for(vertex_descriptor v : s.handles)
     error = (std::max)(error, std::sqrt(CGAL::squared_distance(s.mesh.point(v), target(v))));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return json{{"seconds", r.seconds}, {"local_step_seconds", r.local_step_seconds},
+  json warnings = json::array();        // the result is a success; these say it may not be what was meant
+  for(const LD::Deformation_warning& w : r.warnings)
+    warnings.push_back({{"kind", LD::warning_kind_name(w.kind)}, {"count", w.count}, {"message", w.message}});
+  return json{{"seconds", r.seconds}, {"local_step_seconds", r.local_step_seconds}, {"warnings", warnings},
               {"right_hand_side_seconds", r.right_hand_side_seconds}, {"solve_seconds", r.solve_seconds},
               {"iterations", r.iterations}, {"energy", r.energy}, {"handler_seconds", seconds},
               {"factorizations", s.deformer->number_of_factorizations()}, {"handle_error", error}};

@@ -295,6 +295,7 @@ private:
     if(body.contains("representation")) p.representation = internal::string_member(body, "representation");
     if(body.contains("weights")) p.weights = internal::string_member(body, "weights");
     if(body.contains("transform")) p.transform = internal::string_member(body, "transform");
+    if(body.contains("start")) p.start = internal::string_member(body, "start");
     validate_policy(p);
     s.policy = p;
     const std::optional<Drag> d = s.drag;

@@ -53,6 +53,19 @@ enum Deformation_warning_kind
   NO_MOTION
 };
 
+/// \ingroup PkgLaplacianDeformationRef
+/// the name of a warning kind, as spelled in the enum (`"FOLDED_FACES"`, ...).
+inline const char* warning_kind_name(Deformation_warning_kind kind)
+{
+  switch(kind)
+  {
+    case FOLDED_FACES: return "FOLDED_FACES";
+    case HANDLE_TOUCHES_FIXED: return "HANDLE_TOUCHES_FIXED";
+    case NO_MOTION: return "NO_MOTION";
+  }
+  return "UNKNOWN";
+}
+
 /*!
 \ingroup PkgLaplacianDeformationRef
 \brief A warning of `Deformation_result::warnings`: the call succeeded (its status stays `SUCCESS`)
