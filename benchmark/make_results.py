@@ -340,7 +340,13 @@ else:
 conv_file = os.path.join(out, 'convergence.csv')
 conv = list(csv.DictReader(open(conv_file))) if os.path.exists(conv_file) else []
 COLOURS = {'fixed': '#8c564b', 'rotation': '#1f77b4', 'similarity': '#2ca02c', 'sr1': '#d62728',
-           'principal': '#9467bd', 'rsr': '#ff7f0e'}
+           'principal': '#9467bd', 'rsr': '#ff7f0e', 'anchored': '#17becf', 'rotation+rigid': '#0b2e6b',
+           'anchored+rigid': '#0a6b6a'}
+
+
+def starts_of(x):
+    """The starts the harness runs a transform with (the rigidity variants: the rotation start only)."""
+    return ('rotation',) if x.endswith('+rigid') else ('rotation', 'identity')
 CGAL_COLOURS = {'ORIGINAL_ARAP': '#000000', 'SPOKES_AND_RIMS': '#666666', 'SRE_ARAP': '#aaaaaa'}
 
 
@@ -407,7 +413,7 @@ def convergence_svg(path, title, series, ideal, ylabel):
     o.append('<text transform="translate(14,%d) rotate(-90)" text-anchor="middle">%s</text>' % (top + ph / 2, esc(ylabel)))
     lx, ly = left + 2 * pw + gap + 10, top
     entries = [(TRANSFORM_LABEL[x] + ', ' + st + ' start', COLOURS[x], '' if st == 'rotation' else '6,4')
-               for x in TRANSFORMS for st in ('rotation', 'identity')]
+               for x in TRANSFORMS for st in starts_of(x)]
     entries += [('CGAL ' + v, CGAL_COLOURS[v], '2,2') for v in CGAL_VARIANTS]
     if ideal is not None:
         entries.append(('ideal', '#2a2', '1,3'))
@@ -453,7 +459,7 @@ if conv:
             panels = {}
             for rep, title in (('vertex', 'vertex-based (cotangent)'), ('edge', 'edge-based (cotangent)')):
                 lines = [(x + st, COLOURS[x], '' if st == 'rotation' else '6,4', data.get(('ours', rep, x, st), []))
-                         for x in TRANSFORMS for st in ('rotation', 'identity')]
+                         for x in TRANSFORMS for st in starts_of(x)]
                 lines += [(v, CGAL_COLOURS[v], '2,2', data.get(('cgal', 'vertex', v, '-'), [])) for v in CGAL_VARIANTS]
                 panels[title] = lines
             ideal = {'bend_arc_error': 0.0, 'twist_mid_radius_ratio': 1.0, 'volume_change': 0.0}.get(key)

@@ -817,14 +817,13 @@ TEST(MeshDeformerStart, RotateKeepsTheWindingOfLargeTurns)
 
 namespace {
 
-// the harness's cylinder task at test size: the top ring of the 41-ring tube turned by 90 degrees
-// about y and moved to the end of a quarter arc; the largest distance of the ring centroids from
-// the ideal arc, in tube radii, and the smallest signed turn of the centreline (degrees; < 0: an S)
-template <class Deformer>
-std::pair<double, double> bent_tube(LD::Deformation_start start, double rigidity, unsigned iterations)
+// the harness's tube tasks at test size: the 41-ring tube (radius 0.5, height 4) with its bottom
+// ring fixed and its top ring moved to `target(rest position)`, deformed `iterations` times
+template <class Deformer, class Target>
+Surface_mesh deformed_tube(LD::Deformation_start start, double rigidity, unsigned iterations, const Target& target)
 {
-  const double pi = 3.14159265358979323846, bend_radius = 4. / (pi / 2);
   Surface_mesh m = to_mesh<Surface_mesh>(cylinder_soup(32, 40, 0.5, 4.));
+  const auto rest = positions(m);
   const std::vector<vertex_descriptor> top = ring(m, 40);
   std::vector<vertex_descriptor> roi;
   for(vertex_descriptor v : vertices(m))
@@ -835,14 +834,24 @@ std::pair<double, double> bent_tube(LD::Deformation_start start, double rigidity
   d.set_rigidity_weight(rigidity);
   d.insert_roi_vertices(roi.begin(), roi.end());
   d.insert_control_vertices(top.begin(), top.end());
-  const Eigen::Matrix3d r = Eigen::AngleAxisd(pi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
   for(vertex_descriptor v : top)
-  {
-    const Eigen::Vector3d p = positions(m)[std::size_t(v)] - Eigen::Vector3d(0, 0, 4);
-    d.set_target_position(v, to_point(r * p + Eigen::Vector3d(bend_radius, 0, bend_radius)));
-  }
+    d.set_target_position(v, to_point(target(rest[std::size_t(v)])));
   const auto result = d.deform(iterations, 0.);
   EXPECT_TRUE(result) << result.message;
+  return m;
+}
+
+// the top ring turned by 90 degrees about y and moved to the end of a quarter arc; the largest
+// distance of the ring centroids from the ideal arc, in tube radii, and the smallest signed turn
+// of the centreline (degrees; < 0: an S)
+template <class Deformer>
+std::pair<double, double> bent_tube(LD::Deformation_start start, double rigidity, unsigned iterations)
+{
+  const double pi = 3.14159265358979323846, bend_radius = 4. / (pi / 2);
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(pi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Surface_mesh m = deformed_tube<Deformer>(start, rigidity, iterations, [&](const Eigen::Vector3d& p) {
+    return Eigen::Vector3d(r * (p - Eigen::Vector3d(0, 0, 4)) + Eigen::Vector3d(bend_radius, 0, bend_radius));
+  });
   double error = 0, turn = 180;
   std::vector<Eigen::Vector3d> centroids;
   for(int j = 0; j <= 40; ++j)
@@ -887,22 +896,11 @@ template <class Deformer>
 std::pair<double, double> twisted_tube(LD::Deformation_start start, double rigidity, unsigned iterations)
 {
   const double pi = 3.14159265358979323846;
-  Surface_mesh m = to_mesh<Surface_mesh>(cylinder_soup(32, 40, 0.5, 4.));
-  const auto rest = positions(m);
-  const std::vector<vertex_descriptor> top = ring(m, 40);
-  std::vector<vertex_descriptor> roi;
-  for(vertex_descriptor v : vertices(m))
-    if(std::size_t(v) >= 32)
-      roi.push_back(v);
-  Deformer d(m);
-  d.set_start(start);
-  d.set_rigidity_weight(rigidity);
-  d.insert_roi_vertices(roi.begin(), roi.end());
-  d.insert_control_vertices(top.begin(), top.end());
-  for(vertex_descriptor v : top)
-    d.set_target_position(v, to_point(Eigen::AngleAxisd(0.75 * pi, Eigen::Vector3d::UnitZ()) * rest[std::size_t(v)]));
-  const auto r = d.deform(iterations, 0.);
-  EXPECT_TRUE(r) << r.message;
+  const Eigen::Matrix3d twist = Eigen::AngleAxisd(0.75 * pi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Surface_mesh m = deformed_tube<Deformer>(start, rigidity, iterations, [&](const Eigen::Vector3d& p) {
+    return Eigen::Vector3d(twist * p);
+  });
+  const auto rest = positions(to_mesh<Surface_mesh>(cylinder_soup(32, 40, 0.5, 4.)));
   const std::vector<vertex_descriptor> middle = ring(m, 20);
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for(vertex_descriptor v : middle)
