@@ -622,3 +622,72 @@ TEST(MinimalMeshes, FloatMeshAtExtremeScale)
     }
   }
 }
+
+// Every decade from 1e-300 to 1e300 on every mesh type: the scaled unit result (1e-9 relative; 1e-5
+// for the float kernel, whose coordinates round to 24 bits) or a clean failure that writes nothing.
+TYPED_TEST(MinimalMeshes, EveryScaleMatchesOrFailsCleanly)
+{
+  typedef TypeParam Graph;
+  typedef typename boost::graph_traits<Graph>::vertex_descriptor vertex_descriptor;
+  typedef typename boost::property_traits<typename boost::property_map<Graph, CGAL::vertex_point_t>::type>::value_type Point;
+  const bool is_float = std::is_same<typename CGAL::Kernel_traits<Point>::Kernel::FT, float>::value;
+  std::vector<Coordinates> unit;
+  std::size_t succeeded = 0, refused = 0;
+  double worst = 0;
+  for(int e = 0; e <= 600; ++e)
+  {
+    const int decade = e == 0 ? 0 : e <= 300 ? e : 300 - e;          // 0 first: the unit result
+    const double scale = std::pow(10., decade);
+    Soup s = bumpy_plane_soup(6, 0.1);
+    for(auto& p : s.points)
+      for(double& c : p)
+        c *= scale;
+    Graph g = to_mesh<Graph>(s);
+    const auto before = graph_positions(g);
+    LD::Mesh_deformer<Graph> d(g);
+    std::vector<vertex_descriptor> roi, controls;
+    for(vertex_descriptor v : vertices(g))
+      if(!CGAL::is_border(v, g))
+      {
+        roi.push_back(v);
+        if(roi.size() == 12)
+          controls.push_back(v);
+      }
+    d.insert_roi_vertices(roi.begin(), roi.end());
+    d.insert_control_vertices(controls.begin(), controls.end());
+    d.translate(controls.begin(), controls.end(), Eigen::Vector3d(0.1 * scale, 0, 0.2 * scale));
+    const LD::Deformation_result r = d.deform(3, 0.);
+    if(decade == 0)
+    {
+      ASSERT_TRUE(r) << r.message;
+      unit = graph_positions(g);
+      continue;
+    }
+    if(!r)
+    {
+      ++refused;
+      EXPECT_FALSE(r.message.empty());
+      EXPECT_EQ(graph_positions(g), before) << "scale 1e" << decade;
+      continue;
+    }
+    ++succeeded;
+    const auto after = graph_positions(g);
+    // float coordinates below FLT_MIN are subnormal: the input itself is then no scaled copy of the
+    // unit mesh (a few bits left), so only a finite result is required there
+    if(is_float && scale * 1e-3 < double(std::numeric_limits<float>::min()))
+    {
+      for(const Coordinates& c : after)
+        EXPECT_TRUE(std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2])) << "scale 1e" << decade;
+      continue;
+    }
+    double error = 0;
+    for(std::size_t i = 0; i < after.size(); ++i)
+      for(std::size_t k = 0; k < 3; ++k)
+        error = (std::max)(error, std::abs(after[i][k] / scale - unit[i][k]));
+    worst = (std::max)(worst, error);
+    EXPECT_LE(error, is_float ? 1e-5 : 1e-9) << "scale 1e" << decade;
+  }
+  std::cout << "[measured] decades 1e-300..1e300 (cotangent, edge-based S*R1): " << succeeded << " succeed (largest "
+            << "error " << worst << " of the unit size), " << refused << " refused cleanly" << std::endl;
+  EXPECT_GT(succeeded, is_float ? 10u : 100u);
+}

@@ -627,8 +627,25 @@ private:
     m_nodes.emplace(m_tm, m_vpm);
     m_stencils = internal::laplacian_stencils(*m_nodes, m_number_of_vertices, m_vim);
     internal::node_positions(m_stencils, m_rest, m_rest_nodes);
-    internal::compute_weights(m_stencils, m_rest_nodes, Weight_policy(), Geom_traits(),
-                              internal::runs_in_parallel<ConcurrencyTag>());
+    // far from unit size (coordinates beyond 2^+-30) the weights are computed on a copy scaled by a
+    // power of two (exact): a weight policy's intermediate products (squared lengths, areas) would
+    // overflow or underflow otherwise. The operator is then a power of two times the true one,
+    // which leaves the least-squares solution unchanged (only the reported energies scale).
+    double largest = 0;
+    for(const Eigen::Vector3d& x : m_rest_nodes)
+      largest = (std::max)(largest, x.cwiseAbs().maxCoeff());
+    const int exponent = largest > 0 && std::isfinite(largest) ? std::ilogb(largest) : 0;
+    if(exponent > 30 || exponent < -30)
+    {
+      std::vector<Eigen::Vector3d> scaled(m_rest_nodes);
+      for(Eigen::Vector3d& x : scaled)
+        x *= std::ldexp(1., -exponent);
+      internal::compute_weights(m_stencils, scaled, Weight_policy(), Geom_traits(),
+                                internal::runs_in_parallel<ConcurrencyTag>());
+    }
+    else
+      internal::compute_weights(m_stencils, m_rest_nodes, Weight_policy(), Geom_traits(),
+                                internal::runs_in_parallel<ConcurrencyTag>());
     // the fan triangles serve the weights only: free them before the factorisation (its peak)
     std::vector<std::array<std::size_t, 2>>().swap(m_stencils.fan);
     std::vector<std::size_t>().swap(m_stencils.fan_start);
