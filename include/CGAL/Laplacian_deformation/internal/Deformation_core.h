@@ -195,8 +195,8 @@ public:
       if(zero > 0)
         result.message = "the Laplacian operator is zero at " + std::to_string(zero) +
                          " free vertices: every weight of their cells vanishes (collinear or degenerate "
-                         "cells, or coordinates too large or too small for the weight policy: cotangent "
-                         "weights underflow beyond about 1e+-75), so nothing determines them: the system is singular";
+                         "cells, or coordinates too large or too small for the number type of the mesh's "
+                         "kernel), so nothing determines them: the system is singular";
       else
         result.message = "a connected part of " + std::to_string(result.unanchored_size) +
                          " free vertices touches no fixed or control vertex: the system is singular";
