@@ -435,6 +435,12 @@ public:
   {
     m_rest = internal::vertex_positions(m_tm, m_vpm, m_vim);
     std::fill(m_moved.begin(), m_moved.end(), 0);
+    for(vertex_descriptor v : m_roi)     // rotations given to rotate() are relative to the new rest
+      if(is_control_vertex(v))
+      {
+        m_target_rotation[index(v)] = Eigen::Quaterniond::Identity();
+        m_rotation_known[index(v)] = to_vector(m_target[index(v)]) == m_rest[index(v)];
+      }
     m_operator_ready = false;
     m_mesh_checked = false;
     m_need_preprocess = true;
