@@ -999,3 +999,106 @@ TEST(MeshDeformerStart, RigidityRowsKeepRigidMotionsAndRefuseBadWeights)
   d.set_rigidity_weight(0.);
   EXPECT_TRUE(d.deform(1, 0.));
 }
+
+namespace {
+
+// A representation's nodes without the optional incident_nodes(): Mesh_deformer then builds the
+// stencils, weights and operator of the whole mesh (the path of user models that lack it).
+template <class Representation>
+struct Whole_mesh
+{
+  template <class TriangleMesh, class VertexPointMap>
+  class Nodes : private Representation::template Nodes<TriangleMesh, VertexPointMap>
+  {
+    typedef typename Representation::template Nodes<TriangleMesh, VertexPointMap> Base;
+
+  public:
+    typedef typename Base::Triangle_mesh Triangle_mesh;
+    typedef typename Base::Node_graph Node_graph;
+    typedef typename Base::node_descriptor node_descriptor;
+    typedef typename Base::vertex_descriptor vertex_descriptor;
+    Nodes(const TriangleMesh& tm, VertexPointMap vpm) : Base(tm, vpm) {}
+    using Base::graph;
+    using Base::number_of_nodes;
+    using Base::nodes;
+    using Base::index;
+    using Base::combination;
+    using Base::neighbors;
+    using Base::fan_triangles;
+  };
+};
+
+} // namespace
+
+// The operator built for the ROI only (the default with the package's representations) gives
+// bitwise the result of the whole mesh's operator: on the dino, for both representations, hard and
+// soft controls, the rotation-aware start and the rigidity rows, through a smaller ROI (the
+// operator is reused), a larger one (rebuilt) and new targets.
+TEST(MeshDeformer, RegionOperatorGivesBitwiseTheWholeMeshResult)
+{
+  Surface_mesh dino;
+  ASSERT_TRUE(read_data_mesh("dino.off", dino)) << data_path("dino.off");
+  const vertex_descriptor seed = *std::next(vertices(dino).begin(), 1000);
+  auto rings = [&](int k, std::vector<vertex_descriptor>& roi, std::vector<vertex_descriptor>& handle) {
+    roi.assign(1, seed);
+    handle.assign(1, seed);
+    std::map<vertex_descriptor, int> ring{ { seed, 0 } };
+    for(std::size_t i = 0; i < roi.size(); ++i)
+      for(vertex_descriptor w : CGAL::vertices_around_target(halfedge(roi[i], dino), dino))
+        if(ring[roi[i]] < k && ring.emplace(w, ring[roi[i]] + 1).second)
+        {
+          roi.push_back(w);
+          if(ring[w] == 1)
+            handle.push_back(w);
+        }
+  };
+  const double diag = diagonal(dino);
+  auto compare = [&](auto local_tag, auto whole_tag, const char* what) {
+    typedef typename decltype(local_tag)::Deformer Local;
+    typedef typename decltype(whole_tag)::Deformer Whole;
+    for(int variant = 0; variant < 3; ++variant)
+    {
+      SCOPED_TRACE(std::string(what) + " variant " + std::to_string(variant));
+      Surface_mesh ml = dino, mw = dino;
+      Local dl(ml);
+      Whole dw(mw);
+      std::vector<vertex_descriptor> roi, handle;
+      auto run = [&](int k, const Eigen::Vector3d& pull, double angle) {
+        rings(k, roi, handle);
+        auto setup = [&](auto& d) {
+          d.clear_roi_vertices();
+          d.insert_roi_vertices(roi.begin(), roi.end());
+          d.insert_control_vertices(handle.begin(), handle.end());
+          if(variant == 1)
+            d.set_soft_constraints(0.5);
+          if(variant == 2)
+          {
+            d.set_start(LD::ROTATION_START);
+            d.set_rigidity_weight(0.3);
+          }
+          d.reset();
+          d.rotate(handle.begin(), handle.end(), Eigen::Vector3d(dino.point(seed).x(), dino.point(seed).y(), dino.point(seed).z()),
+                   Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ())));
+          d.translate(handle.begin(), handle.end(), pull);
+          return d.deform(4, 0.);
+        };
+        const LD::Deformation_result rl = setup(dl), rw = setup(dw);
+        ASSERT_TRUE(rl) << rl.message;
+        ASSERT_TRUE(rw) << rw.message;
+        EXPECT_EQ(positions(ml), positions(mw));        // bitwise
+        EXPECT_EQ(rl.energies, rw.energies);
+        ASSERT_EQ(dl.row_nodes(), dw.row_nodes());
+        for(std::size_t a : dl.row_nodes())
+          ASSERT_EQ(dl.node_transform(a), dw.node_transform(a));
+        EXPECT_LT(dl.row_nodes().size(), dl.nodes().number_of_nodes() / 4);
+      };
+      run(10, Eigen::Vector3d(0.05 * diag, 0, 0), 0.6);   // built for 10 rings
+      run(6, Eigen::Vector3d(0, 0.03 * diag, 0), -0.4);   // inside: reused
+      run(14, Eigen::Vector3d(0, 0, 0.04 * diag), 0.9);   // beyond: rebuilt
+    }
+  };
+  typedef LD::Cotangent_weights C;
+  typedef LD::Scaled_rotation_transform T;
+  compare(Config<LD::Edge_based_representation, C, T>(), Config<Whole_mesh<LD::Edge_based_representation>, C, T>(), "edge");
+  compare(Config<LD::Vertex_based_representation, C, T>(), Config<Whole_mesh<LD::Vertex_based_representation>, C, T>(), "vertex");
+}

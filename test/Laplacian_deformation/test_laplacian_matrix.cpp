@@ -228,3 +228,91 @@ TEST(LaplacianMatrix, DirectAssemblyEqualsProductOfWeightsAndCombinations)
   check(LD::internal::weighted_stencils(m, LD::Edge_based_representation(), LD::Cotangent_weights(), vpm, vim, Kernel()));
   check(LD::internal::weighted_stencils(m, LD::Vertex_based_representation(), LD::Uniform_weights(), vpm, vim, Kernel()));
 }
+
+// The region-local stencils (what Mesh_deformer builds for a ROI): every row of D that touches the
+// region is there, bitwise equal to the whole-mesh operator's row (same columns, same values), with
+// the same node positions; the other rows are empty or do not touch the region.
+TYPED_TEST(LaplacianMatrix, RegionStencilsEqualWholeMeshRowsBitwise)
+{
+  namespace LDI = CGAL::Laplacian_deformation::internal;
+  const Soup soups[] = { icosphere_soup(3), grid_soup(9, 7, 1., 0.2), cylinder_soup(14, 6), mixed_polygon_soup(6, 5) };
+  for(const Soup& soup : soups)
+  {
+    const TypeParam m = to_mesh<TypeParam>(soup);
+    const auto vim = CGAL::get_initialized_vertex_index_map(m);
+    const std::size_t n = num_vertices(m);
+    std::vector<Eigen::Vector3d> p(n);
+    for(auto v : vertices(m))
+    {
+      const auto& q = get(CGAL::vertex_point, m, v);
+      p[get(vim, v)] = Eigen::Vector3d(q.x(), q.y(), q.z());
+    }
+    std::vector<typename boost::graph_traits<TypeParam>::vertex_descriptor> all(vertices(m).begin(), vertices(m).end());
+    // regions: one vertex, a band of vertices by index (several components on some meshes), every vertex
+    std::vector<std::vector<typename boost::graph_traits<TypeParam>::vertex_descriptor>> regions;
+    regions.push_back({ all[n / 2] });
+    regions.emplace_back();
+    for(auto v : all)
+      if(get(vim, v) % 7 < 2 || get(vim, v) < n / 5)
+        regions.back().push_back(v);
+    regions.push_back(all);
+    for_each_combination([&](auto rep, auto weights) {
+      typedef typename decltype(rep)::template Nodes<TypeParam, typename boost::property_map<TypeParam, CGAL::vertex_point_t>::const_type> Nodes;
+      const Nodes nodes(m, get(CGAL::vertex_point, m));
+      static_assert(LDI::has_incident_nodes<Nodes>::value, "the package's nodes have incident_nodes()");
+      LDI::Laplacian_stencils full = LDI::laplacian_stencils(nodes, n, vim);
+      std::vector<Eigen::Vector3d> x_full, x_near;
+      LDI::node_positions(full, p, x_full);
+      LDI::compute_weights(full, x_full, weights, Kernel());
+      const Eigen::SparseMatrix<double, Eigen::RowMajor> d_full = LDI::laplacian_operator(full);
+      for(const auto& region : regions)
+      {
+        std::vector<char> in_region(n, 0);
+        for(auto v : region)
+          in_region[get(vim, v)] = 1;
+        auto touches = [&](const Eigen::SparseMatrix<double, Eigen::RowMajor>& d, Eigen::Index r) {
+          for(Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(d, r); it; ++it)
+            if(in_region[std::size_t(it.col())])
+              return true;
+          return false;
+        };
+        LDI::Laplacian_stencils near = LDI::laplacian_stencils_near(nodes, n, vim, region);
+        ASSERT_EQ(near.global_node.size(), near.number_of_nodes);
+        ASSERT_TRUE(std::is_sorted(near.global_node.begin(), near.global_node.end()));
+        LDI::node_positions(near, p, x_near);
+        LDI::compute_weights(near, x_near, weights, Kernel());
+        const Eigen::SparseMatrix<double, Eigen::RowMajor> d_near = LDI::laplacian_operator(near);
+        std::size_t touching_near = 0, touching_full = 0;
+        for(Eigen::Index r = 0; r < d_full.rows(); ++r)
+          touching_full += touches(d_full, r);
+        for(std::size_t a = 0; a < near.number_of_nodes; ++a)
+        {
+          const std::size_t g = near.global_node[a];
+          ASSERT_EQ(x_near[a], x_full[g]);
+          if(!touches(d_near, Eigen::Index(a)))
+            continue;
+          ++touching_near;
+          ASSERT_EQ(near.degree(a), full.degree(g));
+          for(std::size_t k = 0; k < near.degree(a); ++k)
+          {
+            ASSERT_EQ(near.global_node[near.neighbor[near.neighbor_start[a] + k]], full.neighbor[full.neighbor_start[g] + k]);
+            ASSERT_EQ(near.weight[near.neighbor_start[a] + k], full.weight[full.neighbor_start[g] + k]);
+          }
+          Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(d_near, Eigen::Index(a)), jt(d_full, Eigen::Index(g));
+          for(; it && jt; ++it, ++jt)
+          {
+            ASSERT_EQ(it.col(), jt.col());
+            ASSERT_EQ(it.value(), jt.value());     // bitwise
+          }
+          EXPECT_FALSE(it || jt) << "row " << g << " has another number of entries";
+        }
+        EXPECT_EQ(touching_near, touching_full);
+        EXPECT_GT(touching_near, 0u);
+        if(region.size() == 1 && full.number_of_nodes > 500)
+        {
+          EXPECT_LT(near.number_of_nodes, full.number_of_nodes / 2);   // local: far fewer nodes
+        }
+      }
+    });
+  }
+}

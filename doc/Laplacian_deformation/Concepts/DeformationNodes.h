@@ -26,7 +26,7 @@ Requirements the algorithm relies on:
 
 Nothing else is used: the package constructs a model in place from `(tm, vpm)` and never copies,
 assigns or default-constructs it; it never compares, orders or hashes `node_descriptor`s (it
-only passes them back to `index()`, `combination()`, `neighbors()` and `fan_triangles()`); and the
+only passes them back to `index()`, `combination()`, `neighbors()` and `fan_triangles(`); and the
 ranges are only traversed with a range-based `for`. The archetype test
 (`test/Laplacian_deformation/test_archetypes.cpp`) instantiates `Mesh_deformer`, `deform_mesh()`
 and `laplacian_matrix()` with a model that provides exactly this.
@@ -127,6 +127,17 @@ public:
   /// triangle `(x_a, x_b, x_c)` of `a`. The orientation of `(b, c)` does not matter.
   template <class F>
   void fan_triangles(node_descriptor a, F&& f) const;
+
+  /// <b>Optional.</b> Calls `f(a)` (`a` a `node_descriptor`) for each node whose combination
+  /// involves the mesh vertex `v` (each once). With it, `CGAL::Laplacian_deformation::Mesh_deformer`
+  /// builds the stencils, weights and operator rows of the nodes near the region of interest only
+  /// (the nodes of its vertices, their neighbours, and the neighbours' neighbours for their
+  /// positions), so that a small selection on a big mesh costs what the selection costs (see
+  /// \ref LapDefPerformance); the neighbour relation must then be symmetric (`b` in
+  /// `neighbors(a)` if and only if `a` in `neighbors(b)`). Without it the whole mesh's stencils
+  /// are built. Both of the package's models provide it.
+  template <class F>
+  void incident_nodes(vertex_descriptor v, F&& f) const;
 
 /// @}
 };

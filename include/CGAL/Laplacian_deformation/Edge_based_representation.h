@@ -66,7 +66,7 @@ struct Edge_based_representation
     /// builds the nodes of `tm`; `tm` must outlive this object.
     Nodes(const TriangleMesh& tm, VertexPointMap vpm)
       : m_tm(&tm), m_graph(tm, CGAL::parameters::vertex_point_map(vpm)),
-        m_index(get(boost::vertex_index, m_graph))
+        m_index(get(boost::vertex_index, m_graph)), m_vertex_index(CGAL::get_initialized_vertex_index_map(tm))
     {}
 
     /// the node graph.
@@ -84,14 +84,25 @@ struct Edge_based_representation
       f(source(a, *m_tm), 0.5);
       f(target(a, *m_tm), 0.5);
     }
+    /// calls `f(a)` for each node whose combination involves the vertex `v`: the edges incident to `v`.
+    template <class F>
+    void incident_nodes(vertex_descriptor v, F&& f) const
+    {
+      if(halfedge(v, *m_tm) == boost::graph_traits<TriangleMesh>::null_halfedge())
+        return;
+      for(auto h : CGAL::halfedges_around_target(halfedge(v, *m_tm), *m_tm))
+        f(edge(h, *m_tm));
+    }
     /// the neighbours `N(a)`: every other edge incident to an endpoint of `a`.
-    decltype(auto) neighbors(node_descriptor a) const { return adjacent_vertices(a, m_graph); }
+    /// (listed from `a`'s canonical orientation, so that the order does not depend on the
+    /// orientation of the descriptor, see `fan_triangles()`)
+    decltype(auto) neighbors(node_descriptor a) const { return adjacent_vertices(edge(canonical_halfedge(a), *m_tm), m_graph); }
     /// calls `f(b, c)` for each fan triangle `(x_a, x_b, x_c)` of `a` (see the class documentation).
     template <class F>
     void fan_triangles(node_descriptor a, F&& f) const
     {
       const TriangleMesh& tm = *m_tm;
-      const auto h_ij = halfedge(a, tm);
+      const auto h_ij = canonical_halfedge(a);
       const auto i = source(h_ij, tm);
       for(auto endpoint : { h_ij, opposite(h_ij, tm) })        // targets j, then i
       {
@@ -117,9 +128,20 @@ struct Edge_based_representation
     }
 
   private:
+    // the halfedge of `a` pointing to its endpoint of larger vertex index: an edge descriptor
+    // carries an orientation (e.g. Surface_mesh's remembers a halfedge), and the cells are
+    // listed from this one whatever the descriptor's, so that a node reached through
+    // incident_nodes() or neighbors() has exactly the cell it has when reached through nodes()
+    typename boost::graph_traits<TriangleMesh>::halfedge_descriptor canonical_halfedge(node_descriptor a) const
+    {
+      const auto h = halfedge(a, *m_tm);
+      return get(m_vertex_index, target(h, *m_tm)) >= get(m_vertex_index, source(h, *m_tm)) ? h : opposite(h, *m_tm);
+    }
+
     const TriangleMesh* m_tm;
     Node_graph m_graph;
     typename boost::property_map<Node_graph, boost::vertex_index_t>::const_type m_index;
+    typename CGAL::GetInitializedVertexIndexMap<TriangleMesh>::const_type m_vertex_index;
   };
 };
 

@@ -113,6 +113,7 @@ public:
       m_rotation_known(m_number_of_vertices, 0)
   {
     m_rest = internal::vertex_positions(m_tm, m_vpm, m_vim);
+    m_positions = m_rest;
     m_vertex_at_index.resize(m_number_of_vertices);
     for(vertex_descriptor v : vertices(m_tm))
       if(index(v) < m_number_of_vertices)
@@ -352,6 +353,12 @@ public:
       return false;
     m_need_preprocess = false;
     m_role.swap(role);
+    m_row_nodes.clear();
+    for(std::size_t a : m_core.rows())
+      m_row_nodes.push_back(m_stencils.node_index(a));
+    for(std::size_t i : m_written)            // deform()'s buffer: every vertex at rest again
+      m_positions[i] = m_rest[i];
+    m_written.clear();
     m_diagonal = region_diagonal();
     m_field_ready = false;
     if(uses_start() && m_start == ROTATION_START && !build_start_field())
@@ -381,13 +388,17 @@ public:
       m_last.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       return m_last;
     }
-    std::vector<Eigen::Vector3d> p(m_number_of_vertices);
-    for(vertex_descriptor v : vertices(m_tm))
+    // the positions of every vertex: the fixed ones at rest (kept so in m_positions), the ROI's
+    // written here (O(ROI) per call, no buffer proportional to the mesh allocated per call)
+    std::vector<Eigen::Vector3d>& p = m_positions;
+    if(m_written.empty())
+      for(vertex_descriptor v : m_roi)
+        m_written.push_back(index(v));
+    for(vertex_descriptor v : m_roi)
     {
       const std::size_t i = index(v);
-      p[i] = m_role[i] == internal::FIXED_VERTEX ? m_rest[i]
-             : m_is_control[i] ? to_vector(m_target[i]) : to_vector(get(m_vpm, v));
-      if(!p[i].allFinite() && m_role[i] != internal::FIXED_VERTEX)
+      p[i] = m_is_control[i] ? to_vector(m_target[i]) : to_vector(get(m_vpm, v));
+      if(!p[i].allFinite())
         return fail(NON_FINITE_INPUT, "a target or a current position is not finite"), m_last;
     }
     if(!m_core.has_solution() && !apply_start(p))
@@ -434,6 +445,8 @@ public:
   void overwrite_initial_geometry()
   {
     m_rest = internal::vertex_positions(m_tm, m_vpm, m_vim);
+    m_positions = m_rest;
+    m_written.clear();
     std::fill(m_moved.begin(), m_moved.end(), 0);
     for(vertex_descriptor v : m_roi)     // rotations given to rotate() are relative to the new rest
       if(is_control_vertex(v))
@@ -459,14 +472,13 @@ public:
   /// the nodes of the representation (available after a successful `preprocess()`).
   const Nodes& nodes() const { CGAL_precondition(m_nodes.has_value()); return *m_nodes; }
   /// the dense indices of the nodes that carry a row (a fitted transform), increasing.
-  const std::vector<std::size_t>& row_nodes() const { return m_core.rows(); }
+  const std::vector<std::size_t>& row_nodes() const { return m_row_nodes; }
   /// the transform `T_a` of node index `a` used by the last iteration (identity outside the rows).
   Eigen::Matrix3d node_transform(std::size_t a) const
   {
-    const auto& rows = m_core.rows();
-    const auto it = std::lower_bound(rows.begin(), rows.end(), a);
-    return it != rows.end() && *it == a ? m_core.transforms()[std::size_t(it - rows.begin())]
-                                        : Eigen::Matrix3d::Identity().eval();
+    const auto it = std::lower_bound(m_row_nodes.begin(), m_row_nodes.end(), a);
+    return it != m_row_nodes.end() && *it == a ? m_core.transforms()[std::size_t(it - m_row_nodes.begin())]
+                                               : Eigen::Matrix3d::Identity().eval();
   }
   /// the number of factorisations of the deformation system performed so far.
   std::size_t number_of_factorizations() const { return m_core.number_of_factorizations(); }
@@ -626,19 +638,32 @@ private:
     return m_mesh_checked = true;
   }
   // the rest-geometry operator, shared by every ROI: stencils, weights, D, delta = D p_rest
+  // the rest-geometry operator: stencils, weights, D, delta = D p_rest. With representations whose
+  // nodes have incident_nodes() (both of the package's), only the rows that touch the ROI and the
+  // neighbours they need are built: the cost is the ROI's, not the mesh's; it is reused by later
+  // preprocess() calls while it covers the ROI (its rows are then bitwise those of a whole-mesh build).
   void build_operator()
   {
-    if(m_operator_ready)
+    if(m_operator_ready && operator_covers_roi())
       return;
     m_nodes.emplace(m_tm, m_vpm);
-    m_stencils = internal::laplacian_stencils(*m_nodes, m_number_of_vertices, m_vim);
+    if constexpr(internal::has_incident_nodes<Nodes>::value)
+    {
+      m_stencils = internal::laplacian_stencils_near(*m_nodes, m_number_of_vertices, m_vim, m_roi);
+      m_operator_region.assign(m_number_of_vertices, 0);
+      for(vertex_descriptor v : m_roi)
+        m_operator_region[index(v)] = 1;
+    }
+    else
+      m_stencils = internal::laplacian_stencils(*m_nodes, m_number_of_vertices, m_vim);
     internal::node_positions(m_stencils, m_rest, m_rest_nodes);
     // far from unit size (coordinates beyond 2^+-30) the weights are computed on a copy scaled by a
     // power of two (exact): a weight policy's intermediate products (squared lengths, areas) would
     // overflow or underflow otherwise. The operator is then a power of two times the true one,
     // which leaves the least-squares solution unchanged (only the reported energies scale).
+    // (the largest coordinate of the whole rest mesh: the same decision for every ROI)
     double largest = 0;
-    for(const Eigen::Vector3d& x : m_rest_nodes)
+    for(const Eigen::Vector3d& x : m_rest)
       largest = (std::max)(largest, x.cwiseAbs().maxCoeff());
     const int exponent = largest > 0 && std::isfinite(largest) ? std::ilogb(largest) : 0;
     if(exponent > 30 || exponent < -30)
@@ -656,19 +681,25 @@ private:
     std::vector<std::array<std::size_t, 2>>().swap(m_stencils.fan);
     std::vector<std::size_t>().swap(m_stencils.fan_start);
     m_d = internal::laplacian_operator(m_stencils);
-    Eigen::MatrixX3d p(m_rest.size(), 3);
-    for(std::size_t v = 0; v < m_rest.size(); ++v)
-      p.row(Eigen::Index(v)) = m_rest[v].transpose();
-    m_delta = m_d * p;
+    m_delta = internal::operator_times_positions(m_d, m_rest);
     m_operator_ready = true;
-    m_rigid_ready = false;
+  }
+  // whether the operator was built for a superset of the ROI (always with a whole-mesh build)
+  bool operator_covers_roi() const
+  {
+    if(m_stencils.global_node.empty())
+      return true;
+    for(vertex_descriptor v : m_roi)
+      if(!m_operator_region[index(v)])
+        return false;
+    return true;
   }
   // [D; lambda S]: S has one row sqrt(c_ab) (x_a - x_b) per spoke (a, b), owned by a;
-  // lambda^2 = weight |D|_F^2 / |S|_F^2. Rebuilt only when the weight or the operator changed.
+  // lambda^2 = weight |D_R|_F^2 / |S_R|_F^2 over the rows R that touch the ROI (so that lambda
+  // depends on the ROI only, not on how much of the mesh the operator covers). Rebuilt at every
+  // preprocess (its cost is the ROI's).
   void build_rigidity_rows()
   {
-    if(m_rigid_ready && m_rigid_built_weight == m_rigidity_weight)
-      return;
     const internal::Laplacian_stencils& s = m_stencils;
     typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Operator;
     std::vector<Eigen::Triplet<double> > triplets;
@@ -691,7 +722,22 @@ private:
     spokes.setFromTriplets(triplets.begin(), triplets.end());
     std::vector<Eigen::Triplet<double> >().swap(triplets);
     spokes.prune([](Eigen::Index, Eigen::Index, double v) { return v != 0; });   // x_a - x_b shares vertices
-    const double ds = m_d.squaredNorm(), ss = spokes.squaredNorm();
+    auto squared_norm_near_roi = [this](const Operator& m) {
+      double sum = 0;
+      for(Eigen::Index r = 0; r < m.rows(); ++r)
+      {
+        double row = 0;
+        bool touches = false;
+        for(Operator::InnerIterator it(m, r); it; ++it)
+        {
+          row += it.value() * it.value();
+          touches = touches || m_is_roi[std::size_t(it.col())];
+        }
+        sum += touches ? row : 0.;
+      }
+      return sum;
+    };
+    const double ds = squared_norm_near_roi(m_d), ss = squared_norm_near_roi(spokes);
     const double lambda = ss > 0 ? std::sqrt(m_rigidity_weight * ds / ss) : 0.;
     spokes *= lambda;
     const Eigen::Index n1 = m_d.rows(), n2 = spokes.rows();
@@ -709,14 +755,9 @@ private:
     m_rigid_owner.resize(std::size_t(n1 + n2));
     std::iota(m_rigid_owner.begin(), m_rigid_owner.begin() + n1, std::size_t(0));
     std::copy(spoke_owner.begin(), spoke_owner.end(), m_rigid_owner.begin() + n1);
-    Eigen::MatrixX3d p(m_rest.size(), 3);
-    for(std::size_t v = 0; v < m_rest.size(); ++v)
-      p.row(Eigen::Index(v)) = m_rest[v].transpose();
     m_rigid_delta.resize(n1 + n2, 3);
     m_rigid_delta.topRows(n1) = m_delta;
-    m_rigid_delta.bottomRows(n2) = spokes * p;
-    m_rigid_built_weight = m_rigidity_weight;
-    m_rigid_ready = true;
+    m_rigid_delta.bottomRows(n2) = internal::operator_times_positions(spokes, m_rest);
   }
   // at preprocess: the controls adjacent to fixed vertices (a warning), and the faces with a
   // vertex in the ROI, with their rest normals (for the folded-face check of deform())
@@ -739,23 +780,31 @@ private:
       m_preprocess_warnings.push_back({HANDLE_TOUCHES_FIXED, touching, std::to_string(touching) +
           " control vertices are adjacent to fixed vertices (no free vertex between them): moving them "
           "stretches the edges to the fixed part into a thin tongue; grow the region of interest around them"});
+    // the faces around the ROI's vertices, each once: from its ROI vertex of smallest index
     m_face_start.assign(1, 0);
     m_face_vertex.clear();
     m_rest_normals.clear();
-    for(auto f : faces(m_tm))
+    for(vertex_descriptor v : m_roi)
     {
-      bool in_region = false;
-      for(vertex_descriptor v : vertices_around_face(halfedge(f, m_tm), m_tm))
+      if(halfedge(v, m_tm) == boost::graph_traits<TriangleMesh>::null_halfedge())
+        continue;
+      for(auto h : halfedges_around_target(halfedge(v, m_tm), m_tm))
       {
-        m_face_vertex.push_back(index(v));
-        in_region = in_region || m_role[index(v)] != internal::FIXED_VERTEX;
-      }
-      if(!in_region)
-        m_face_vertex.resize(m_face_start.back());
-      else
-      {
-        m_face_start.push_back(m_face_vertex.size());
-        m_rest_normals.push_back(face_normal(m_rest, m_rest_normals.size()));
+        if(is_border(h, m_tm))
+          continue;
+        bool first = true;
+        for(vertex_descriptor w : vertices_around_face(h, m_tm))
+        {
+          m_face_vertex.push_back(index(w));
+          first = first && (index(w) >= index(v) || m_role[index(w)] == internal::FIXED_VERTEX);
+        }
+        if(!first)
+          m_face_vertex.resize(m_face_start.back());
+        else
+        {
+          m_face_start.push_back(m_face_vertex.size());
+          m_rest_normals.push_back(face_normal(m_rest, m_rest_normals.size()));
+        }
       }
     }
   }
@@ -848,8 +897,11 @@ private:
   Eigen::SparseMatrix<double, Eigen::RowMajor> m_rigid_d;   // [D; lambda S] when rigidity_weight() > 0
   Eigen::MatrixX3d m_rigid_delta;
   std::vector<std::size_t> m_rigid_owner;
-  double m_rigidity_weight = 0, m_rigid_built_weight = 0;
-  bool m_rigid_ready = false;
+  double m_rigidity_weight = 0;
+  std::vector<unsigned char> m_operator_region;   // the ROI the operator was built for (by vertex index)
+  std::vector<std::size_t> m_row_nodes;           // the fitted nodes' node indices, increasing
+  std::vector<Eigen::Vector3d> m_positions;       // deform()'s positions: fixed vertices at rest
+  std::vector<std::size_t> m_written;             // the vertices deform() wrote in m_positions
   Deformation_result m_last;
   double m_diagonal = 0;
   double m_soft_weight = 1.;

@@ -66,6 +66,9 @@ struct Vertex_based_representation
     /// calls `f(v, c)` for each term of `x_a = sum c p_v`: here once, with `(a, 1)`.
     template <class F>
     void combination(node_descriptor a, F&& f) const { f(a, 1.); }
+    /// calls `f(a)` for each node whose combination involves the vertex `v`: `v` itself.
+    template <class F>
+    void incident_nodes(vertex_descriptor v, F&& f) const { f(v); }
     /// the neighbours `N(a)`: the adjacent vertices.
     decltype(auto) neighbors(node_descriptor a) const
     {

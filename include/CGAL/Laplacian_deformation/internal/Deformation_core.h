@@ -275,7 +275,8 @@ public:
 
   // Runs up to `iterations` iterations. `positions` holds every vertex: the known ones at their
   // prescribed positions, the soft controls at their targets, the free ones at their current
-  // positions; on success it receives the solution. `diagonal` scales the change criterion.
+  // positions; it is updated in place (the unknowns' entries; on failure they are unspecified),
+  // and on success it holds the solution. `diagonal` scales the change criterion.
   Deformation_result iterate(std::vector<Eigen::Vector3d>& positions, std::size_t iterations,
                              double tolerance, double diagonal)
   {
@@ -289,11 +290,16 @@ public:
     Eigen::MatrixX3d &b = m_b, &rhs = m_rhs, &x = m_x;
     b.resize(m_a.rows(), 3);
     rhs.resize(nu, 3);
+    m_soft_targets.resize(m_soft.size());
     for(std::size_t k = 0; k < m_soft.size(); ++k)
-      b.row(nr + Eigen::Index(k)) = m_lambda * positions[m_unknowns[m_soft[k]]].transpose();
+    {
+      m_soft_targets[k] = positions[m_unknowns[m_soft[k]]];
+      b.row(nr + Eigen::Index(k)) = m_lambda * m_soft_targets[k].transpose();
+    }
 
     // the current solution, or the rest-start positions, as the reference for the change
-    std::vector<Eigen::Vector3d> current = positions;
+    // (in place: no copy of the positions, which cover the whole mesh)
+    std::vector<Eigen::Vector3d>& current = positions;
     if(m_has_solution)
       for(Eigen::Index j = 0; j < nu; ++j)
         current[m_unknowns[std::size_t(j)]] = m_solution.row(j).transpose();
@@ -345,11 +351,10 @@ public:
     result.energy = result.energies.empty() ? 0. : result.energies.back();
     for(std::size_t k = 0; k < m_soft.size(); ++k)
     {
-      const std::size_t v = m_unknowns[m_soft[k]];
-      const double unit = normalizing_power_of_two((current[v] - positions[v]).cwiseAbs().maxCoeff());
-      result.max_constraint_residual = (std::max)(result.max_constraint_residual, (unit * (current[v] - positions[v])).norm() / unit);
+      const Eigen::Vector3d d = current[m_unknowns[m_soft[k]]] - m_soft_targets[k];
+      const double unit = normalizing_power_of_two(d.cwiseAbs().maxCoeff());
+      result.max_constraint_residual = (std::max)(result.max_constraint_residual, (unit * d).norm() / unit);
     }
-    positions.swap(current);
     return result;
   }
 
@@ -534,6 +539,7 @@ private:
   std::vector<Eigen::Vector3d> m_known_positions;   // their positions when m_known_part was computed
   Eigen::MatrixX3d m_known_part;                    // K p_known
   Eigen::MatrixX3d m_b, m_rhs, m_x;                 // right-hand side, A^T b, solution
+  std::vector<Eigen::Vector3d> m_soft_targets;      // the soft controls' targets of the current call
   std::vector<double> m_row_energy;
   bool m_has_solution = false;
   bool m_ready = false;

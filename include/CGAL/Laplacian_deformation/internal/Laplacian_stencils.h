@@ -16,6 +16,7 @@
 #include <array>
 #include <cstddef>
 #include <algorithm>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -43,30 +44,44 @@ struct Laplacian_stencils
   std::vector<std::size_t> fan_start;
   std::vector<std::array<std::size_t, 2>> fan;
 
+  // the node index of each local node (increasing) when the stencils cover part of the mesh
+  // (laplacian_stencils_near()); empty when local index = node index (every node)
+  std::vector<std::size_t> global_node;
+
   std::size_t degree(std::size_t a) const { return neighbor_start[a + 1] - neighbor_start[a]; }
+  std::size_t node_index(std::size_t a) const { return global_node.empty() ? a : global_node[a]; }
 };
 
-// Builds the stencils of the nodes `nodes` (a model of DeformationNodes); `vertex_index` maps
-// mesh vertices to [0, number_of_vertices).
-template <class Nodes, class VertexIndexMap>
-Laplacian_stencils laplacian_stencils(const Nodes& nodes, std::size_t number_of_vertices,
-                                      const VertexIndexMap& vertex_index)
+// Whether `Nodes` has the optional member `incident_nodes(v, f)` of DeformationNodes (calls `f(a)`
+// for each node whose combination involves the mesh vertex `v`).
+template <class Nodes, class = void>
+struct has_incident_nodes : std::false_type {};
+template <class Nodes>
+struct has_incident_nodes<Nodes, std::void_t<decltype(std::declval<const Nodes&>().incident_nodes(
+    std::declval<typename Nodes::vertex_descriptor>(), std::declval<void (*)(typename Nodes::node_descriptor)>()))>>
+  : std::true_type {};
+
+// The stencils of the nodes `sequence[i]` (node descriptors, in local index order i): the cells
+// (neighbours, fans) of the nodes with `is_row(i)`, the combination only of the others;
+// `local(b)` is the local index of a neighbour `b` of a row node.
+template <class Nodes, class VertexIndexMap, class Sequence, class IsRow, class Local>
+Laplacian_stencils build_stencils(const Nodes& nodes, std::size_t number_of_vertices, const VertexIndexMap& vertex_index,
+                                  const Sequence& sequence, const IsRow& is_row, const Local& local_of)
 {
   typedef typename Nodes::node_descriptor node_descriptor;
   Laplacian_stencils s;
-  s.number_of_nodes = nodes.number_of_nodes();
+  s.number_of_nodes = sequence.size();
   s.number_of_vertices = number_of_vertices;
-
-  std::vector<node_descriptor> by_index(s.number_of_nodes);
-  for(node_descriptor a : nodes.nodes())
-    by_index[nodes.index(a)] = a;
 
   // sizes first, so that every array is allocated once at its final size (growing them would
   // touch about twice the memory, and first touches of fresh pages are slow on some machines)
   std::size_t combination_size = 0, neighbor_size = 0, fan_size = 0;
-  for(const node_descriptor& a : by_index)
+  for(std::size_t i = 0; i < sequence.size(); ++i)
   {
+    const node_descriptor& a = sequence[i];
     nodes.combination(a, [&](auto, double) { ++combination_size; });
+    if(!is_row(i))
+      continue;
     for(node_descriptor b : nodes.neighbors(a))
     {
       (void)b;
@@ -84,34 +99,119 @@ Laplacian_stencils laplacian_stencils(const Nodes& nodes, std::size_t number_of_
   s.combination_start.push_back(0);
   s.neighbor_start.push_back(0);
   s.fan_start.push_back(0);
-  for(const node_descriptor& a : by_index)
+  for(std::size_t i = 0; i < sequence.size(); ++i)
   {
+    const node_descriptor& a = sequence[i];
     nodes.combination(a, [&](auto v, double c) {
       s.combination_vertex.push_back(static_cast<std::size_t>(get(vertex_index, v)));
       s.combination_coefficient.push_back(c);
     });
-    const std::size_t first = s.neighbor.size();
-    for(node_descriptor b : nodes.neighbors(a))
-      s.neighbor.push_back(nodes.index(b));
-    const std::size_t last = s.neighbor.size();
-    auto local = [&](node_descriptor b) {
-      const std::size_t ib = nodes.index(b);
-      for(std::size_t k = first; k < last; ++k)
-        if(s.neighbor[k] == ib)
-          return k - first;
-      CGAL_assertion_msg(false, "a fan triangle vertex is not a neighbour of the node");
-      return last - first;
-    };
-    nodes.fan_triangles(a, [&](node_descriptor b, node_descriptor c) {
-      const std::array<std::size_t, 2> t{ local(b), local(c) };
-      if(t[0] < last - first && t[1] < last - first)
-        s.fan.push_back(t);
-    });
+    if(is_row(i))
+    {
+      const std::size_t first = s.neighbor.size();
+      for(node_descriptor b : nodes.neighbors(a))
+        s.neighbor.push_back(local_of(b));
+      const std::size_t last = s.neighbor.size();
+      auto local = [&](node_descriptor b) {
+        const std::size_t ib = local_of(b);
+        for(std::size_t k = first; k < last; ++k)
+          if(s.neighbor[k] == ib)
+            return k - first;
+        CGAL_assertion_msg(false, "a fan triangle vertex is not a neighbour of the node");
+        return last - first;
+      };
+      nodes.fan_triangles(a, [&](node_descriptor b, node_descriptor c) {
+        const std::array<std::size_t, 2> t{ local(b), local(c) };
+        if(t[0] < last - first && t[1] < last - first)
+          s.fan.push_back(t);
+      });
+    }
     s.combination_start.push_back(s.combination_vertex.size());
     s.neighbor_start.push_back(s.neighbor.size());
     s.fan_start.push_back(s.fan.size());
   }
   s.weight.assign(s.neighbor.size(), 0.);
+  return s;
+}
+
+// Builds the stencils of every node of `nodes` (a model of DeformationNodes), local index = node
+// index; `vertex_index` maps mesh vertices to [0, number_of_vertices).
+template <class Nodes, class VertexIndexMap>
+Laplacian_stencils laplacian_stencils(const Nodes& nodes, std::size_t number_of_vertices,
+                                      const VertexIndexMap& vertex_index)
+{
+  typedef typename Nodes::node_descriptor node_descriptor;
+  std::vector<node_descriptor> by_index(nodes.number_of_nodes());
+  for(node_descriptor a : nodes.nodes())
+    by_index[nodes.index(a)] = a;
+  return build_stencils(nodes, number_of_vertices, vertex_index, by_index, [](std::size_t) { return true; },
+                        [&nodes](const node_descriptor& b) { return nodes.index(b); });
+}
+
+// The stencils of the nodes near the mesh vertices `region` (needs `incident_nodes()`, see
+// has_incident_nodes): the rows are the nodes whose combination involves a vertex of `region` or
+// one of whose neighbours' does (every row of D = L_w P that touches `region`), with their cells;
+// the neighbours of the rows get their combination only (degree 0: their positions serve the
+// weights and the local step). The local indices follow the node indices (`global_node`
+// increasing), so the rows of D come in the same order as in the whole-mesh stencils and every
+// entry of a row is computed from the same cell in the same order: D restricted to the rows that
+// touch `region` is bitwise the whole-mesh one's. The cost is proportional to the region's
+// neighbourhood, not to the mesh.
+template <class Nodes, class VertexIndexMap, class VertexRange>
+Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t number_of_vertices,
+                                           const VertexIndexMap& vertex_index, const VertexRange& region)
+{
+  typedef typename Nodes::node_descriptor node_descriptor;
+  typedef std::pair<std::size_t, node_descriptor> Entry;
+  auto sort_unique = [](std::vector<Entry>& e) {
+    std::sort(e.begin(), e.end(), [](const Entry& x, const Entry& y) { return x.first < y.first; });
+    e.erase(std::unique(e.begin(), e.end(), [](const Entry& x, const Entry& y) { return x.first == y.first; }), e.end());
+  };
+  auto grow = [&nodes, &sort_unique](const std::vector<Entry>& from) {
+    std::vector<Entry> to(from);
+    for(const Entry& e : from)
+      for(node_descriptor b : nodes.neighbors(e.second))
+        to.emplace_back(nodes.index(b), b);
+    sort_unique(to);
+    return to;
+  };
+  std::vector<Entry> seeds;
+  for(const auto& v : region)
+    nodes.incident_nodes(v, [&](const node_descriptor& a) { seeds.emplace_back(nodes.index(a), a); });
+  sort_unique(seeds);
+  const std::vector<Entry> rows = grow(seeds);
+  std::vector<Entry> all = grow(rows);
+  std::vector<char> is_row(all.size(), 0);
+  std::vector<node_descriptor> sequence;
+  sequence.reserve(all.size());
+  std::vector<std::size_t> global_node;
+  global_node.reserve(all.size());
+  for(std::size_t i = 0, r = 0; i < all.size(); ++i)
+  {
+    if(r < rows.size() && rows[r].first == all[i].first)
+      is_row[i] = 1, ++r;
+    sequence.push_back(all[i].second);
+    global_node.push_back(all[i].first);
+  }
+  std::vector<Entry>().swap(all);
+  // the local index of a node: a table by node index when the neighbourhood is a large part of
+  // the mesh, a binary search otherwise (no memory proportional to the mesh)
+  std::vector<unsigned int> table;
+  if(16 * global_node.size() > nodes.number_of_nodes())
+  {
+    table.assign(nodes.number_of_nodes(), 0);
+    for(std::size_t i = 0; i < global_node.size(); ++i)
+      table[global_node[i]] = static_cast<unsigned int>(i);
+  }
+  auto local_of = [&](const node_descriptor& b) -> std::size_t {
+    const std::size_t g = nodes.index(b);
+    if(!table.empty())
+      return table[g];
+    return std::size_t(std::lower_bound(global_node.begin(), global_node.end(), g) - global_node.begin());
+  };
+  Laplacian_stencils s = build_stencils(nodes, number_of_vertices, vertex_index, sequence,
+                                        [&is_row](std::size_t i) { return is_row[i] != 0; }, local_of);
+  s.global_node.swap(global_node);
   return s;
 }
 
@@ -139,6 +239,8 @@ void compute_weights(Laplacian_stencils& s, const std::vector<Eigen::Vector3d>& 
     for(std::size_t a = begin; a < end; ++a)
     {
       const std::size_t first = s.neighbor_start[a], n = s.degree(a);
+      if(n == 0)
+        continue;                        // no spoke (or a node outside the rows: no cell)
       neighbors.clear();
       for(std::size_t k = first; k < first + n; ++k)
         neighbors.push_back(point(x[s.neighbor[k]]));
@@ -167,51 +269,68 @@ inline Eigen::SparseMatrix<double> combination_matrix(const Laplacian_stencils& 
 
 // The Laplacian operator D = L_w P (rows: nodes, columns: vertices; stored by rows),
 // delta_a = sum_b w_ab (x_a - x_b) = (D p)_a. Assembled row by row (row a combines the
-// vertices of x_a and of its neighbours) in a dense accumulator, without forming L_w and the
-// sparse product; the terms of an entry are summed in the order neighbours, then x_a; exact
-// zeros (cancellations) are dropped.
+// vertices of x_a and of its neighbours) without forming L_w and the sparse product: the terms
+// of a row, in the order neighbours then x_a, are stably sorted by vertex and each entry is the
+// sum of its terms in that order; exact zeros (cancellations) are dropped. No memory
+// proportional to the mesh but the row pointers.
 inline Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_operator(const Laplacian_stencils& s)
 {
   typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Row_major;
-  std::vector<int> outer(s.number_of_nodes + 1, 0), inner, touched;
-  std::vector<double> values, accumulator(s.number_of_vertices, 0.);
-  std::vector<std::size_t> mark(s.number_of_vertices, s.number_of_nodes);
+  std::vector<int> outer(s.number_of_nodes + 1, 0), inner;
+  std::vector<double> values;
+  std::vector<std::pair<std::size_t, double>> terms;
   inner.reserve(4 * s.neighbor.size());
   values.reserve(4 * s.neighbor.size());
   for(std::size_t a = 0; a < s.number_of_nodes; ++a)
   {
-    touched.clear();
-    auto add = [&](std::size_t v, double value) {
-      if(mark[v] != a)
-      {
-        mark[v] = a;
-        accumulator[v] = 0.;
-        touched.push_back(int(v));
-      }
-      accumulator[v] += value;
-    };
+    terms.clear();
     double diagonal = 0;
     for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
     {
       const std::size_t b = s.neighbor[k];
       diagonal += s.weight[k];
       for(std::size_t j = s.combination_start[b]; j < s.combination_start[b + 1]; ++j)
-        add(s.combination_vertex[j], -s.weight[k] * s.combination_coefficient[j]);
+        terms.emplace_back(s.combination_vertex[j], -s.weight[k] * s.combination_coefficient[j]);
     }
-    for(std::size_t j = s.combination_start[a]; j < s.combination_start[a + 1]; ++j)
-      add(s.combination_vertex[j], diagonal * s.combination_coefficient[j]);
-    std::sort(touched.begin(), touched.end());
-    for(int v : touched)
-      if(accumulator[std::size_t(v)] != 0)
+    if(s.neighbor_start[a + 1] > s.neighbor_start[a])
+      for(std::size_t j = s.combination_start[a]; j < s.combination_start[a + 1]; ++j)
+        terms.emplace_back(s.combination_vertex[j], diagonal * s.combination_coefficient[j]);
+    std::stable_sort(terms.begin(), terms.end(),
+                     [](const std::pair<std::size_t, double>& x, const std::pair<std::size_t, double>& y) {
+                       return x.first < y.first;
+                     });
+    for(std::size_t i = 0; i < terms.size();)
+    {
+      const std::size_t v = terms[i].first;
+      double sum = 0.;
+      for(; i < terms.size() && terms[i].first == v; ++i)
+        sum += terms[i].second;
+      if(sum != 0)
       {
-        inner.push_back(v);
-        values.push_back(accumulator[std::size_t(v)]);
+        inner.push_back(int(v));
+        values.push_back(sum);
       }
+    }
     outer[a + 1] = int(inner.size());
   }
   const Eigen::Map<const Row_major> d(Eigen::Index(s.number_of_nodes), Eigen::Index(s.number_of_vertices),
                                       Eigen::Index(values.size()), outer.data(), inner.data(), values.data());
   return Row_major(d);
+}
+
+// delta = D p for the vertex positions `p`, row by row (no dense copy of `p`).
+inline Eigen::MatrixX3d operator_times_positions(const Eigen::SparseMatrix<double, Eigen::RowMajor>& d,
+                                                 const std::vector<Eigen::Vector3d>& p)
+{
+  Eigen::MatrixX3d delta(d.rows(), 3);
+  for(Eigen::Index r = 0; r < d.rows(); ++r)
+  {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for(Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(d, r); it; ++it)
+      sum += it.value() * p[std::size_t(it.col())];
+    delta.row(r) = sum.transpose();
+  }
+  return delta;
 }
 
 } // namespace internal
