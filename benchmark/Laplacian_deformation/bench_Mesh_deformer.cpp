@@ -231,14 +231,16 @@ struct Selection
   double height = 0;
 };
 
-// roi_percent = 98: all but the 2% lowest; 10: the 10% highest. The handle: the 1% highest.
+// roi_percent = 98: all but the 2% lowest; 10: the 10% highest; 1: the 1% highest (a small
+// selection on a big mesh, as in the editor). The handle: the 1% highest (0.1% with the 1% ROI).
 Selection select(const Mesh& m, int roi_percent)
 {
   std::vector<vertex_descriptor> by_height(vertices(m).begin(), vertices(m).end());
   std::sort(by_height.begin(), by_height.end(),
             [&](vertex_descriptor a, vertex_descriptor b) { return m.point(a).y() < m.point(b).y(); });
   Selection s;
-  const std::size_t n = by_height.size(), in_roi = n * std::size_t(roi_percent) / 100, moved = n / 100;
+  const std::size_t n = by_height.size(), in_roi = n * std::size_t(roi_percent) / 100,
+                    moved = roi_percent > 1 ? n / 100 : n / 1000;
   s.roi.assign(by_height.end() - long(in_roi), by_height.end());
   s.handle.assign(by_height.end() - long(moved), by_height.end());
   s.height = m.point(by_height.back()).y() - m.point(by_height.front()).y();
@@ -343,9 +345,9 @@ void BM_iteration(benchmark::State& state, int level, int roi_percent)
 template <class Method>
 void register_method(const std::string& name, int level)
 {
-  for(int roi_percent : {98, 10})
+  for(int roi_percent : {98, 10, 1})
   {
-    const std::string suffix = "/armadillo_loop" + std::to_string(level) + (roi_percent == 98 ? "/all_but_2pct" : "/roi_10pct");
+    const std::string suffix = "/armadillo_loop" + std::to_string(level) + (roi_percent == 98 ? "/all_but_2pct" : roi_percent == 10 ? "/roi_10pct" : "/roi_1pct");
     auto* p = benchmark::RegisterBenchmark(("preprocess/" + name + suffix).c_str(),
                                            [=](benchmark::State& st) { BM_preprocess<Method>(st, level, roi_percent); });
     auto* i = benchmark::RegisterBenchmark(("iteration/" + name + suffix).c_str(),

@@ -156,44 +156,50 @@ Laplacian_stencils laplacian_stencils(const Nodes& nodes, std::size_t number_of_
 // increasing), so the rows of D come in the same order as in the whole-mesh stencils and every
 // entry of a row is computed from the same cell in the same order: D restricted to the rows that
 // touch `region` is bitwise the whole-mesh one's. The cost is proportional to the region's
-// neighbourhood, not to the mesh.
+// neighbourhood, not to the mesh (but for one byte per node of the mesh, zeroed, to meet each
+// node once, and a table of the local indices when the neighbourhood is a large part of the mesh).
 template <class Nodes, class VertexIndexMap, class VertexRange>
 Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t number_of_vertices,
                                            const VertexIndexMap& vertex_index, const VertexRange& region)
 {
   typedef typename Nodes::node_descriptor node_descriptor;
   typedef std::pair<std::size_t, node_descriptor> Entry;
-  auto sort_unique = [](std::vector<Entry>& e) {
-    std::sort(e.begin(), e.end(), [](const Entry& x, const Entry& y) { return x.first < y.first; });
-    e.erase(std::unique(e.begin(), e.end(), [](const Entry& x, const Entry& y) { return x.first == y.first; }), e.end());
+  // each node once (a byte per node of the mesh marks the nodes met): 1 for the rows (the
+  // region's nodes and their neighbours), 2 for the rows' other neighbours
+  std::vector<unsigned char> mark(nodes.number_of_nodes(), 0);
+  std::vector<Entry> all;
+  auto meet = [&](const node_descriptor& a, unsigned char level) {
+    const std::size_t g = nodes.index(a);
+    if(!mark[g])
+    {
+      mark[g] = level;
+      all.emplace_back(g, a);
+    }
   };
-  auto grow = [&nodes, &sort_unique](const std::vector<Entry>& from) {
-    std::vector<Entry> to(from);
-    for(const Entry& e : from)
-      for(node_descriptor b : nodes.neighbors(e.second))
-        to.emplace_back(nodes.index(b), b);
-    sort_unique(to);
-    return to;
-  };
-  std::vector<Entry> seeds;
   for(const auto& v : region)
-    nodes.incident_nodes(v, [&](const node_descriptor& a) { seeds.emplace_back(nodes.index(a), a); });
-  sort_unique(seeds);
-  const std::vector<Entry> rows = grow(seeds);
-  std::vector<Entry> all = grow(rows);
+    nodes.incident_nodes(v, [&](const node_descriptor& a) { meet(a, 1); });
+  const std::size_t number_of_seeds = all.size();
+  for(std::size_t i = 0; i < number_of_seeds; ++i)
+    for(node_descriptor b : nodes.neighbors(all[i].second))
+      meet(b, 1);
+  const std::size_t number_of_rows = all.size();
+  for(std::size_t i = number_of_seeds; i < number_of_rows; ++i)
+    for(node_descriptor b : nodes.neighbors(all[i].second))
+      meet(b, 2);
+  std::sort(all.begin(), all.end(), [](const Entry& x, const Entry& y) { return x.first < y.first; });
   std::vector<char> is_row(all.size(), 0);
   std::vector<node_descriptor> sequence;
   sequence.reserve(all.size());
   std::vector<std::size_t> global_node;
   global_node.reserve(all.size());
-  for(std::size_t i = 0, r = 0; i < all.size(); ++i)
+  for(std::size_t i = 0; i < all.size(); ++i)
   {
-    if(r < rows.size() && rows[r].first == all[i].first)
-      is_row[i] = 1, ++r;
+    is_row[i] = mark[all[i].first] == 1;
     sequence.push_back(all[i].second);
     global_node.push_back(all[i].first);
   }
   std::vector<Entry>().swap(all);
+  std::vector<unsigned char>().swap(mark);
   // the local index of a node: a table by node index when the neighbourhood is a large part of
   // the mesh, a binary search otherwise (no memory proportional to the mesh)
   std::vector<unsigned int> table;
@@ -295,10 +301,15 @@ inline Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_operator(const Lap
     if(s.neighbor_start[a + 1] > s.neighbor_start[a])
       for(std::size_t j = s.combination_start[a]; j < s.combination_start[a + 1]; ++j)
         terms.emplace_back(s.combination_vertex[j], diagonal * s.combination_coefficient[j]);
-    std::stable_sort(terms.begin(), terms.end(),
-                     [](const std::pair<std::size_t, double>& x, const std::pair<std::size_t, double>& y) {
-                       return x.first < y.first;
-                     });
+    // a stable insertion sort: a row has a few dozen terms (std::stable_sort would allocate)
+    for(std::size_t i = 1; i < terms.size(); ++i)
+    {
+      const std::pair<std::size_t, double> t = terms[i];
+      std::size_t j = i;
+      for(; j > 0 && terms[j - 1].first > t.first; --j)
+        terms[j] = terms[j - 1];
+      terms[j] = t;
+    }
     for(std::size_t i = 0; i < terms.size();)
     {
       const std::size_t v = terms[i].first;
