@@ -156,6 +156,36 @@ TEST(LeastSquaresSolver, ReusesTheFactorization)
   EXPECT_LE(relative_error(x2, dense_least_squares(a2, b2)), 1e-9);
 }
 
+// New values on the same pattern: only the numeric factorisation is redone (the symbolic analysis
+// is reused), and the solution is the new system's; a new pattern is analysed again. For the
+// default traits and the simplicial ones; the per-column archetype below analyses every time.
+TEST(LeastSquaresSolver, ReusesTheSymbolicAnalysisWhenOnlyValuesChange)
+{
+  auto check = [](auto solver) {
+    const Eigen::SparseMatrix<double> a = random_sparse_matrix(200, 60, 0.05, 21);
+    ASSERT_TRUE(solver.factor(a));
+    EXPECT_EQ(solver.number_of_analyses(), 1u);
+    Eigen::SparseMatrix<double> scaled = a;
+    for(Eigen::Index k = 0; k < scaled.outerSize(); ++k)
+      for(Eigen::SparseMatrix<double>::InnerIterator it(scaled, k); it; ++it)
+        it.valueRef() *= 1. + 0.5 * double((it.row() + 3 * it.col()) % 5);   // other values, same pattern
+    ASSERT_TRUE(solver.factor(scaled));
+    EXPECT_EQ(solver.number_of_factorizations(), 2u);
+    EXPECT_EQ(solver.number_of_analyses(), 1u);
+    const Eigen::MatrixX3d b = random_rhs(200, 22);
+    Eigen::MatrixX3d x;
+    ASSERT_TRUE(solver.solve(b, x));
+    EXPECT_LE(relative_error(x, dense_least_squares(scaled, b)), 1e-9);
+    const Eigen::SparseMatrix<double> other = random_sparse_matrix(200, 60, 0.06, 23);
+    ASSERT_TRUE(solver.factor(other));
+    EXPECT_EQ(solver.number_of_analyses(), 2u);
+    ASSERT_TRUE(solver.solve(b, x));
+    EXPECT_LE(relative_error(x, dense_least_squares(other, b)), 1e-9);
+  };
+  check(LD::Least_squares_solver<>());
+  check(LD::Least_squares_solver<LD::Eigen_simplicial_solver_traits>());
+}
+
 // The solver owns everything its factorisation refers to: the caller's A may go away.
 TEST(LeastSquaresSolver, DoesNotReferToTheCallersMatrix)
 {

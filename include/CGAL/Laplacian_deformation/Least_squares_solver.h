@@ -17,10 +17,12 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 namespace CGAL {
 namespace Laplacian_deformation {
@@ -109,9 +111,8 @@ public:
                                               internal::Solver_traits_read_lower_triangle<Solver_traits>::value,
                                               internal::runs_in_parallel<ConcurrencyTag>()));
                                    // owned: the traits keep a pointer to it
-    typename Solver_traits::NT d;
     ++m_number_of_factorizations;
-    if(!m_traits.factor(m_matrix, d))
+    if(!factor_matrix(internal::Priority_1()))
       return fail(FACTORIZATION_FAILED);
     m_factored = true;
     return fail(SUCCESS), true;
@@ -151,6 +152,11 @@ public:
   bool is_factored() const { return m_factored; }
   /// the number of factorisations performed since construction.
   std::size_t number_of_factorizations() const { return m_number_of_factorizations; }
+  /// the number of symbolic analyses (fill-reducing ordering and symbolic factorisation) performed
+  /// since construction: with traits that expose an \eigen solver (`solver()` with `analyzePattern()`
+  /// and `factorize()`, as `Eigen_solver_traits`), `factor()` reuses the previous analysis when the
+  /// pattern of `A^T A` is the previous one's (only the values changed); otherwise one per factorisation.
+  std::size_t number_of_analyses() const { return m_number_of_analyses; }
   /// `A^T` (compressed, sorted), as kept since the last successful `factor()`: its column `r` is row `r` of `A`.
   const Eigen::SparseMatrix<double>& transposed_matrix() const { return m_transposed; }
   /// the number of unknowns per coordinate.
@@ -163,6 +169,46 @@ private:
   typedef typename Solver_traits::Vector Vector;
 
   bool fail(Info info) { m_info = info; return false; }
+
+  // factors m_matrix through the Eigen solver, analysing its pattern only when it changed ...
+  template <class T = Solver_traits>
+  auto factor_matrix(internal::Priority_1)
+      -> decltype(std::declval<T&>().solver().analyzePattern(std::declval<const Eigen::SparseMatrix<double>&>()),
+                  std::declval<T&>().solver().factorize(std::declval<const Eigen::SparseMatrix<double>&>()),
+                  std::declval<T&>().solver().info(), std::declval<typename T::Matrix&>().eigen_object(), bool())
+  {
+    const Eigen::SparseMatrix<double>& n = m_matrix.eigen_object();
+    const bool same = m_analysed && n.isCompressed() && n.rows() == m_pattern_size && n.cols() == m_pattern_size &&
+                      std::equal(n.outerIndexPtr(), n.outerIndexPtr() + n.cols() + 1, m_pattern_outer.begin(),
+                                 m_pattern_outer.end()) &&
+                      std::equal(n.innerIndexPtr(), n.innerIndexPtr() + n.nonZeros(), m_pattern_inner.begin(),
+                                 m_pattern_inner.end());
+    if(!same)
+    {
+      // the traits' own factor() (it records the matrix for linear_solver()); it analyses the pattern
+      typename Solver_traits::NT d;
+      ++m_number_of_analyses;
+      m_analysed = false;
+      if(!m_traits.factor(m_matrix, d))
+        return false;
+      if(!n.isCompressed())
+        return true;
+      m_pattern_size = n.rows();
+      m_pattern_outer.assign(n.outerIndexPtr(), n.outerIndexPtr() + n.cols() + 1);
+      m_pattern_inner.assign(n.innerIndexPtr(), n.innerIndexPtr() + n.nonZeros());
+      m_analysed = true;
+      return true;
+    }
+    m_traits.solver().factorize(n);          // the same pattern: numeric factorisation only
+    return m_traits.solver().info() == Eigen::Success;
+  }
+  // ... or the traits' factor()
+  bool factor_matrix(internal::Priority_0)
+  {
+    typename Solver_traits::NT d;
+    ++m_number_of_analyses;
+    return m_traits.factor(m_matrix, d);
+  }
 
   // the solver's own multi-column solve (Cholmod_supernodal_llt::solve_columns()) ...
   template <class T = Solver_traits>
@@ -198,6 +244,10 @@ private:
 
   Eigen::SparseMatrix<double> m_transposed;
   Matrix m_matrix;
+  std::vector<int> m_pattern_outer, m_pattern_inner;   // the pattern of the last analysed N
+  Eigen::Index m_pattern_size = -1;
+  bool m_analysed = false;
+  std::size_t m_number_of_analyses = 0;
   Solver_traits m_traits;
   Info m_info = NOT_FACTORED;
   bool m_factored = false;

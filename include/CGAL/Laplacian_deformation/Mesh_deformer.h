@@ -301,7 +301,7 @@ public:
   /// adds, with relative weight `weight` (>= 0; default 0: none), one rigidity row per spoke of
   /// the node graph: <code>sqrt(c_ab) (x'_a - x'_b) = sqrt(c_ab) T_a (x_a - x_b)</code>, next to
   /// the Laplacian rows (see \ref LapDefTwist). The weight is relative to the Laplacian rows (the
-  /// squared Frobenius norms of both operators), so that a uniform scaling of the problem does not
+  /// squared Frobenius norms of both operators over the rows that touch the ROI), so that a uniform scaling of the problem does not
   /// change the result. Refactors at the next call.
   void set_rigidity_weight(double weight) { m_rigidity_weight = weight; m_need_preprocess = true; }
   /// the relative weight of the spoke rigidity rows.
