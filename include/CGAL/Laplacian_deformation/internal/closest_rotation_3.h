@@ -8,6 +8,8 @@
 #include <CGAL/Laplacian_deformation/Node_cell.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <Eigen/SVD>
 
 #include <algorithm>
