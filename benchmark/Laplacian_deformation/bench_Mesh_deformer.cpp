@@ -110,6 +110,17 @@ Factor_record last_factor;
 struct Recording_supernodal_llt : public LD::Cholmod_supernodal_llt
 {
   typedef LD::Cholmod_supernodal_llt Base;
+  Recording_supernodal_llt()
+  {
+    // experiments: LD_BENCH_ORDERING=amd|metis|nesdis forces CHOLMOD's fill-reducing ordering
+    if(const char* o = std::getenv("LD_BENCH_ORDERING"))
+    {
+      const std::string ordering = o;
+      cholmod().nmethods = 1;
+      cholmod().method[0].ordering = ordering == "metis" ? CHOLMOD_METIS : ordering == "nesdis" ? CHOLMOD_NESDIS : CHOLMOD_AMD;
+      cholmod().postorder = 1;
+    }
+  }
   Recording_supernodal_llt& compute(const Eigen::SparseMatrix<double>& matrix)
   {
     typedef std::chrono::steady_clock Clock;
