@@ -534,7 +534,7 @@ machine_state = ('The 1-minute load average before, between and after the runs w
     'memory bandwidth 39.6 and 29.9 GB/s): compare ratios within one run, not times across runs.')) if loads else 'The load of the machine was not recorded.'
 
 bandwidth = max([b.get('bytes_per_second', 0) for b in bandwidths] or [0])
-p('## Performance targets (issue 6)\n')
+p('## Performance targets (issues 6 and 16)\n')
 p('From the micro-benchmarks below (`bench_Mesh_deformer --levels=%s`, every case in its own process): '
   'the armadillo (level 0, 26k vertices) and its Loop subdivisions (level 1 104k, level 2 416k), ROI all '
   'but the 2%% lowest vertices, the 1%% highest moved; ours: cotangent weights, S*R1, default solver '
@@ -553,16 +553,23 @@ if first_touch:
       '%.2f ms per MB. Every MB a case touches for the first time (its peak memory above the baseline) costs at least '
       'that before any arithmetic: the preprocess of a method that needs more memory pays for it in time too.\n' % (
         ft.get('us_per_page', 0), ft.get('ms_per_mb', 0)))
-p('| level | vertices | target | measured | ratio | limit | verdict | split / reason |')
-p('|---|---:|---|---|---:|---:|---|---|')
+dgemms = [b for b in benchmarks if b['name'].startswith('dgemm/') and not b.get('error_occurred')]
+dgemm_rate = max([b.get('gflops', 0) for b in dgemms] or [0])
+if dgemms:
+    p('BLAS dgemm (the BLAS CHOLMOD calls, its own threads): %s; the best, %.1f GFlop/s, is the limit a supernodal '
+      'factorisation (dense blocks) could reach.\n' % (', '.join('n = %s %.1f GFlop/s' % (b['name'].split('/')[1], b.get('gflops', 0))
+                                                          for b in dgemms), dgemm_rate))
+p('| level | vertices | ROI | target | measured | ratio | limit | verdict | split / reason |')
+p('|---|---:|---|---|---|---:|---:|---|---|')
 edge_iter = {}
 lv = [int(x) for x in levels.split(',') if x.strip()]
 for level in lv:
-    suffix = '/armadillo_loop%d/all_but_2pct' % level
+  for roi in ('all_but_2pct', 'roi_10pct', 'roi_1pct'):
+    suffix = '/armadillo_loop%d/%s' % (level, roi)
     e, v, c = (bench_case('iteration/%s%s' % (m, suffix)) for m in ('edge', 'vertex', 'cgal_arap'))
-    ep, cp = bench_case('preprocess/edge' + suffix), bench_case('preprocess/cgal_arap' + suffix)
-    nv = int((e or v or c or {}).get('vertices', 0))
-    if e:
+    ep, vp, cp = (bench_case('preprocess/%s%s' % (m, suffix)) for m in ('edge', 'vertex', 'cgal_arap'))
+    nv = int((e or v or c or ep or {}).get('vertices', 0))
+    if e and roi == 'all_but_2pct':
         edge_iter[level] = e
 
     def split(b):
@@ -571,53 +578,62 @@ for level in lv:
         t = b['real_time']
         parts = [('local step', b['local_ms']), ('right-hand side', b['rhs_ms']), ('solve', b['solve_ms'])]
         top = max(parts, key=lambda x: x[1])
-        return 'local %.0f / rhs %.1f / solve %.0f ms; %s dominates (%.0f%%)' % (
+        return 'local %.1f / rhs %.2f / solve %.1f ms; %s dominates (%.0f%%)' % (
             b['local_ms'], b['rhs_ms'], b['solve_ms'], top[0], 100 * top[1] / t if t else 0)
 
     def row(target, measured, ratio, limit, reason):
-        p('| %d | %d | %s | %s | %s | %s | %s | %s |' % (
-            level, nv, target, measured, '%.2f' % ratio if ratio == ratio else '-', limit, verdict(ratio, float(limit.strip('<= '))), reason))
+        p('| %d | %d | %s | %s | %s | %s | %s | %s | %s |' % (
+            level, nv, roi, target, measured, '%.2f' % ratio if ratio == ratio else '-', limit,
+            verdict(ratio, float(limit.strip('<= '))) if limit != '-' else 'no target', reason))
+
+    def preprocess_split(b):
+        if not b or 'factor_ms' not in b:
+            return ''
+        text = 'CHOLMOD analyse %.0f + factorise %.0f ms (%.0f%% of it), the rest (stencils, weights, operator, A, A^T A) %.0f ms' % (
+            b.get('analyse_ms', 0), b.get('factorise_ms', b['factor_ms']), 100 * b['factor_ms'] / b['real_time'],
+            b['real_time'] - b['factor_ms'])
+        if first_touch and 'extra_mb' in b:
+            text += '; first touches of its %.0f MB of fresh memory alone cost about %.0f ms (%.2f ms/MB)' % (
+                b['extra_mb'], b['extra_mb'] * first_touch[0].get('ms_per_mb', 0), first_touch[0].get('ms_per_mb', 0))
+        return text
 
     nan = float('nan')
-    if e and c:
-        row('edge S*R1 iteration / CGAL iteration', '%.1f / %.1f ms' % (e['real_time'], c['real_time']),
-            e['real_time'] / c['real_time'], '<= 0.5', split(e))
-    else:
-        row('edge S*R1 iteration / CGAL iteration', 'not measured', nan, '<= 0.5', '')
-    if v and c:
-        row('vertex S*R1 iteration / CGAL iteration', '%.1f / %.1f ms' % (v['real_time'], c['real_time']),
-            v['real_time'] / c['real_time'], '<= 0.25', split(v))
-    else:
-        row('vertex S*R1 iteration / CGAL iteration', 'not measured', nan, '<= 0.25', '')
-    if ep and cp:
-        reason = ''
-        if 'factor_ms' in ep:
-            reason = 'CHOLMOD analyse + factorise %.0f ms (%.0f%%), the rest (stencils, weights, operator, A, A^T A) %.0f ms' % (
-                ep['factor_ms'], 100 * ep['factor_ms'] / ep['real_time'], ep['real_time'] - ep['factor_ms'])
-            if first_touch and 'extra_mb' in ep:
-                reason += '; first touches of its %.0f MB of fresh memory alone cost about %.0f ms (%.2f ms/MB)' % (
-                    ep['extra_mb'], ep['extra_mb'] * first_touch[0].get('ms_per_mb', 0), first_touch[0].get('ms_per_mb', 0))
-        row('edge preprocess / CGAL preprocess', '%.0f / %.0f ms' % (ep['real_time'], cp['real_time']),
-            ep['real_time'] / cp['real_time'], '<= 1', reason)
-    else:
-        row('edge preprocess / CGAL preprocess', 'not measured', nan, '<= 1', '')
-    if e and c and 'peak_mb' in e and 'peak_mb' in c:
-        reason = ''
-        if 'factor_mb' in e:
-            reason = 'factor L %.0f MB (%.3g nonzeros, %d unknowns); vertex-based peak %s MB' % (
-                e['factor_mb'], e['factor_lnz'], e['n'], '%.0f' % v['peak_mb'] if v and 'peak_mb' in v else '-')
-        row('edge peak memory / CGAL peak memory', '%.0f / %.0f MB' % (e['peak_mb'], c['peak_mb']),
-            e['peak_mb'] / c['peak_mb'], '<= 1.5', reason)
-    else:
-        row('edge peak memory / CGAL peak memory', 'not measured', nan, '<= 1.5', '')
-    for name, b in (('edge', e), ('vertex', v)):
-        if b and 'factor_mb' in b and bandwidth > 0:
-            bound = 2 * b['factor_mb'] * 1e6 / bandwidth * 1e3
-            row('%s solve / (2 x factor bytes / bandwidth)' % name, '%.1f ms / (2 x %.0f MB / %.1f GB/s = %.1f ms)' % (
-                b['solve_ms'], b['factor_mb'], bandwidth / 1e9, bound), b['solve_ms'] / bound, '<= 2',
-                'own substitutions on CHOLMOD\'s supernodal factor (Cholmod_supernodal_llt::solve_columns), one thread, '
-                'Eigen matrix-vector kernels; with the default x86-64 (SSE2) code arithmetic limits it (an ad-hoc '
-                '-march=native build solved 1.4x faster)')
+    for name, b, limit in (('edge', e, '<= 0.5'), ('vertex', v, '<= 0.25')):
+        if b and c:
+            row('%s S*R1 iteration / CGAL iteration' % name, '%.1f / %.1f ms' % (b['real_time'], c['real_time']),
+                b['real_time'] / c['real_time'], limit, split(b))
+        elif roi != 'roi_1pct':
+            row('%s S*R1 iteration / CGAL iteration' % name, 'not measured', nan, limit, '')
+    for name, b, limit in (('edge', ep, '<= 1'), ('vertex', vp, '<= 0.5')):
+        if b and cp:
+            row('%s preprocess / CGAL preprocess' % name, '%.1f / %.1f ms' % (b['real_time'], cp['real_time']),
+                b['real_time'] / cp['real_time'], limit, preprocess_split(b))
+        else:
+            row('%s preprocess / CGAL preprocess' % name, 'not measured', nan, limit, '')
+    for name, b in (('edge', ep), ('vertex', vp)):
+        if b and b.get('factor_gflops') and dgemm_rate > 0 and roi == 'all_but_2pct':
+            row('%s factorisation rate / dgemm rate' % name, '%.2f GFlop/s (%.2f GFlop in %.0f ms) / %.1f GFlop/s' % (
+                b['factor_gflops'], b['factor_gflop'], b['factorise_ms'], dgemm_rate), b['factor_gflops'] / dgemm_rate, '-',
+                'the limit of the factorisation: CHOLMOD\'s supernodes of a mesh Laplacian are small (%.0f unknowns, %.3g '
+                'nonzeros in L), far from dgemm\'s block sizes' % (b.get('n', 0), b.get('factor_lnz', 0)))
+    if roi == 'all_but_2pct':
+        if e and c and 'peak_mb' in e and 'peak_mb' in c:
+            reason = ''
+            if 'factor_mb' in e:
+                reason = 'factor L %.0f MB (%.3g nonzeros, %d unknowns); vertex-based peak %s MB' % (
+                    e['factor_mb'], e['factor_lnz'], e['n'], '%.0f' % v['peak_mb'] if v and 'peak_mb' in v else '-')
+            row('edge peak memory / CGAL peak memory', '%.0f / %.0f MB' % (e['peak_mb'], c['peak_mb']),
+                e['peak_mb'] / c['peak_mb'], '<= 1.5', reason)
+        else:
+            row('edge peak memory / CGAL peak memory', 'not measured', nan, '<= 1.5', '')
+        for name, b in (('edge', e), ('vertex', v)):
+            if b and 'factor_mb' in b and bandwidth > 0:
+                bound = 2 * b['factor_mb'] * 1e6 / bandwidth * 1e3
+                row('%s solve / (2 x factor bytes / bandwidth)' % name, '%.1f ms / (2 x %.0f MB / %.1f GB/s = %.1f ms)' % (
+                    b['solve_ms'], b['factor_mb'], bandwidth / 1e9, bound), b['solve_ms'] / bound, '<= 2',
+                    'own substitutions on CHOLMOD\'s supernodal factor (Cholmod_supernodal_llt::solve_columns): one '
+                    'thread, each off-diagonal block read once per substitution for the three columns, default x86-64 '
+                    '(SSE2) code')
 if 1 in edge_iter and 2 in edge_iter:
     a, b = edge_iter[1], edge_iter[2]
     g_all = b['real_time'] / a['real_time']
@@ -633,12 +649,13 @@ p('## Micro-benchmarks (Google Benchmark, levels %s)\n' % levels)
 p('`build/benchmark/Laplacian_deformation/bench_Mesh_deformer --levels=%s`, each case in its own process '
   '(`--benchmark_filter`): CGAL\'s armadillo (level 0) and its '
   'Loop subdivisions (level 1 about 104k, level 2 about 416k vertices). ROI all_but_2pct = all but the 2%% lowest '
-  'vertices, roi_10pct = the 10%% highest; the 1%% highest are the handle. Ours: cotangent weights, S*R1. '
+  'vertices, roi_10pct = the 10%% highest, roi_1pct = the 1%% highest (a small selection on a big mesh); the 1%% '
+  'highest are the handle (the 0.1%% highest with roi_1pct). Ours: cotangent weights, S*R1. '
   'Wall time in ms (the mean over the timed iterations), next to the CPU time of the main thread alone (not '
   'counting TBB\'s or BLAS\'s worker threads; far below the wall time when the process waited for a core); '
   'the iteration split (local step / right-hand side / solve) in ms per iteration; memory: '
   'peak MB = VmHWM of the case\'s process (reset at the start of its last call; see above); factor: CHOLMOD\'s '
-  'analyse + factorise time inside preprocess (ms) and the bytes of L (MB).\n' % levels)
+  'analyse + factorise time inside preprocess (ms), the bytes of L (MB) and the factorisation\'s rate (GFlop/s).\n' % levels)
 if benchmarks:
     p('| benchmark | vertices | ROI | time ms | main-thread CPU ms | timed iterations | local / rhs / solve ms | peak MB | factor ms / MB (bandwidth GB/s) |')
     p('|---|---:|---:|---:|---:|---:|---|---|---|')
@@ -651,6 +668,10 @@ if benchmarks:
             continue
         memory = '%.0f' % b['peak_mb'] if 'peak_mb' in b else ''
         factor = '%.0f / %.0f' % (b['factor_ms'], b['factor_mb']) if 'factor_ms' in b else ''
+        if b.get('factor_gflops'):
+            factor += ' (%.2f GFlop/s)' % b['factor_gflops']
+        if b['name'].startswith('dgemm/'):
+            factor = '%.1f GFlop/s' % b.get('gflops', 0)
         if b['name'].startswith('bandwidth/'):
             factor = '%.1f GB/s' % (b.get('bytes_per_second', 0) / 1e9)
         if b['name'].startswith('memory/'):

@@ -26,5 +26,7 @@
 #include <CGAL/Laplacian_deformation/Mesh_deformer.h>
 #include <CGAL/Laplacian_deformation/deform_mesh.h>
 #include <CGAL/Laplacian_deformation/metrics.h>
+#include <CGAL/Laplacian_deformation/IO/read_triangle_mesh.h>
+#include <CGAL/Laplacian_deformation/IO/Botsch08.h>
 
 #endif // CGAL_LAPLACIAN_DEFORMATION_H

@@ -59,7 +59,10 @@ public:
   fills `w` with the weights of the spokes of `cell`: after the call `w.size()` is
   `cell.number_of_neighbors()` and `w[i]` is the weight of the spoke from `cell.center()` to
   `cell.neighbor(i)`. The content of `w` on entry is unspecified (the vector is reused between
-  nodes). Called sequentially.
+  nodes). With a parallel `ConcurrencyTag` (the default of `Mesh_deformer` and `deform_mesh()`,
+  when \tbb is found) it is called from several threads at once, on one policy object: it must
+  not modify shared state (a `const` member function without mutable members is enough; each
+  thread has its own `w`).
 
   \tparam GeomTraits a model of `Kernel`
   */

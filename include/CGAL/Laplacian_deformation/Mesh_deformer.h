@@ -283,7 +283,7 @@ public:
   bool has_soft_constraints() const { return m_soft; }
   /// the relative weight of soft constraints.
   double soft_constraint_weight() const { return m_soft_weight; }
-  /// the number of iterations of `deform()` (default 5).
+  /// the number of iterations of `deform()` (default 4, as `deform_mesh()` and the `laplacian_deform` tool: the paper uses 3 to 4).
   void set_iterations(unsigned int iterations) { m_iterations = iterations; }
   /// the relative change below which `deform()` stops early (default 1e-4); a negative, infinite or
   /// NaN tolerance makes `deform()` fail with `INVALID_PARAMETER`.
@@ -655,7 +655,6 @@ private:
         return fail(NON_FINITE_INPUT, "a rest position of the mesh is not finite");
     return m_mesh_checked = true;
   }
-  // the rest-geometry operator, shared by every ROI: stencils, weights, D, delta = D p_rest
   // the rest-geometry operator: stencils, weights, D, delta = D p_rest. With representations whose
   // nodes have incident_nodes() (both of the package's), only the rows that touch the ROI and the
   // neighbours they need are built: the cost is the ROI's, not the mesh's; it is reused by later
@@ -665,41 +664,19 @@ private:
     if(m_operator_ready && operator_covers_roi())
       return;
     m_nodes.emplace(m_tm, m_vpm);
-    if constexpr(internal::has_incident_nodes<Nodes>::value)
+    internal::Rest_operator r;
+    internal::build_rest_operator(r, *m_nodes, m_vim, m_rest, Weight_policy(), Geom_traits(),
+                                  internal::runs_in_parallel<ConcurrencyTag>(), true, &m_roi);
+    m_stencils = std::move(r.stencils);
+    m_rest_nodes = std::move(r.rest_nodes);
+    m_d = std::move(r.d);
+    m_delta = std::move(r.delta);
+    if(!m_stencils.global_node.empty())
     {
-      m_stencils = internal::laplacian_stencils_near(*m_nodes, m_number_of_vertices, m_vim, m_roi);
       m_operator_region.assign(m_number_of_vertices, 0);
       for(vertex_descriptor v : m_roi)
         m_operator_region[index(v)] = 1;
     }
-    else
-      m_stencils = internal::laplacian_stencils(*m_nodes, m_number_of_vertices, m_vim);
-    internal::node_positions(m_stencils, m_rest, m_rest_nodes);
-    // far from unit size (coordinates beyond 2^+-30) the weights are computed on a copy scaled by a
-    // power of two (exact): a weight policy's intermediate products (squared lengths, areas) would
-    // overflow or underflow otherwise. The operator is then a power of two times the true one,
-    // which leaves the least-squares solution unchanged (only the reported energies scale).
-    // (the largest coordinate of the whole rest mesh: the same decision for every ROI)
-    double largest = 0;
-    for(const Eigen::Vector3d& x : m_rest)
-      largest = (std::max)(largest, x.cwiseAbs().maxCoeff());
-    const int exponent = largest > 0 && std::isfinite(largest) ? std::ilogb(largest) : 0;
-    if(exponent > 30 || exponent < -30)
-    {
-      std::vector<Eigen::Vector3d> scaled(m_rest_nodes);
-      for(Eigen::Vector3d& x : scaled)
-        x *= std::ldexp(1., -exponent);
-      internal::compute_weights(m_stencils, scaled, Weight_policy(), Geom_traits(),
-                                internal::runs_in_parallel<ConcurrencyTag>());
-    }
-    else
-      internal::compute_weights(m_stencils, m_rest_nodes, Weight_policy(), Geom_traits(),
-                                internal::runs_in_parallel<ConcurrencyTag>());
-    // the fan triangles serve the weights only: free them before the factorisation (its peak)
-    std::vector<std::array<std::size_t, 2>>().swap(m_stencils.fan);
-    std::vector<std::size_t>().swap(m_stencils.fan_start);
-    m_d = internal::laplacian_operator(m_stencils);
-    m_delta = internal::operator_times_positions(m_d, m_rest);
     m_operator_ready = true;
   }
   // whether the operator was built for a superset of the ROI (always with a whole-mesh build)
@@ -923,7 +900,7 @@ private:
   Deformation_result m_last;
   double m_diagonal = 0;
   double m_soft_weight = 1.;
-  unsigned int m_iterations = 5;
+  unsigned int m_iterations = 4;
   double m_tolerance = 1e-4;
   bool m_soft = false;
   bool m_operator_ready = false;

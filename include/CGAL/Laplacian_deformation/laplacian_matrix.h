@@ -34,19 +34,32 @@ std::vector<Eigen::Vector3d> vertex_positions(const TriangleMesh& tm, const Vert
   return p;
 }
 
-// the stencils of `representation` on `tm`, weighted by `weights`
+// the stencils of `representation` on `tm` with their fan triangles, weighted by `weights` (as
+// they are: not scale-safe)
 template <class Representation, class WeightPolicy, class TriangleMesh, class VertexPointMap,
           class VertexIndexMap, class GeomTraits>
-Laplacian_stencils weighted_stencils(const TriangleMesh& tm, const Representation&,
-                                     const WeightPolicy& weights, const VertexPointMap& vpm,
-                                     const VertexIndexMap& vim, const GeomTraits& gt)
+Laplacian_stencils weighted_stencils(const TriangleMesh& tm, const Representation&, const WeightPolicy& weights,
+                                     const VertexPointMap& vpm, const VertexIndexMap& vim, const GeomTraits& gt)
 {
   const typename Representation::template Nodes<TriangleMesh, VertexPointMap> nodes(tm, vpm);
-  Laplacian_stencils s = laplacian_stencils(nodes, static_cast<std::size_t>(num_vertices(tm)), vim);
+  Laplacian_stencils s;
   std::vector<Eigen::Vector3d> x;
-  node_positions(s, vertex_positions(tm, vpm, vim), x);
-  compute_weights(s, x, weights, gt);
+  build_weighted_stencils(s, x, nodes, vim, vertex_positions(tm, vpm, vim), weights, gt, false, false);
   return s;
+}
+
+// the rest operator of `representation` on `tm`, weighted by `weights` (the shared rest-operator
+// builder; `scale_safe`: see build_rest_operator())
+template <class Representation, class WeightPolicy, class TriangleMesh, class VertexPointMap,
+          class VertexIndexMap, class GeomTraits>
+Rest_operator rest_operator(const TriangleMesh& tm, const Representation&, const WeightPolicy& weights,
+                            const VertexPointMap& vpm, const VertexIndexMap& vim, const GeomTraits& gt,
+                            bool scale_safe)
+{
+  const typename Representation::template Nodes<TriangleMesh, VertexPointMap> nodes(tm, vpm);
+  Rest_operator r;
+  build_rest_operator(r, nodes, vim, vertex_positions(tm, vpm, vim), weights, gt, false, scale_safe);
+  return r;
 }
 
 } // namespace internal
@@ -93,8 +106,7 @@ Eigen::SparseMatrix<double> laplacian_matrix(const TriangleMesh& tm,
   const auto vim = CGAL::get_initialized_vertex_index_map(tm, np);
   const auto gt = choose_parameter<typename GetGeomTraits<TriangleMesh, NamedParameters>::type>(
       get_parameter(np, CGAL::internal_np::geom_traits));
-  return Eigen::SparseMatrix<double>(internal::laplacian_operator(
-      internal::weighted_stencils(tm, representation, weights, vpm, vim, gt)));
+  return Eigen::SparseMatrix<double>(internal::rest_operator(tm, representation, weights, vpm, vim, gt, false).d);
 }
 
 } // namespace Laplacian_deformation

@@ -141,7 +141,10 @@ struct Metric_context
     }
     return sum;
   }
-  // the rest cotangent weight (cot alpha + cot beta) / 2 of the edge of h, clamped to >= 0
+  // the rest cotangent weight (cot alpha + cot beta) / 2 of the edge of h, clamped to >= 0: the
+  // per-edge weight of the ARAP energy (Sorkine and Alexa 2007), not Cotangent_weights' Laplacian
+  // weight (which divides by the cell's mixed Voronoi area and is defined on a representation's
+  // fan): the energy must be the one CGAL's Surface_mesh_deformation minimises, to compare with it
   double cotangent_weight(halfedge_descriptor h) const
   {
     double w = 0;
@@ -163,7 +166,7 @@ template <class Representation, class TriangleMesh, class RestPointMap, class Ve
 double laplacian_error(const Metric_context<TriangleMesh, VertexIndexMap>& c, const RestPointMap& rest,
                        const std::vector<unsigned char>& in_roi, const GeomTraits& gt)
 {
-  const Laplacian_stencils s = weighted_stencils(c.tm, Representation(), Cotangent_weights(), rest, c.vim, gt);
+  const Laplacian_stencils s = rest_operator(c.tm, Representation(), Cotangent_weights(), rest, c.vim, gt, true).stencils;
   std::vector<Eigen::Vector3d> x0, x1;
   node_positions(s, c.p0, x0);
   node_positions(s, c.p1, x1);

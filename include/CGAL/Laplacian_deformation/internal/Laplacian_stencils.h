@@ -14,6 +14,7 @@
 #include <Eigen/SparseCore>
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <algorithm>
 #include <type_traits>
@@ -342,6 +343,83 @@ inline Eigen::MatrixX3d operator_times_positions(const Eigen::SparseMatrix<doubl
     delta.row(r) = sum.transpose();
   }
   return delta;
+}
+
+// The weights of the rest cells far from unit size: beyond coordinates 2^+-30 they are computed on
+// a copy of the node positions scaled by a power of two (exact), since a weight policy's
+// intermediate products (squared lengths, areas) would overflow or underflow otherwise. The
+// operator is then a power of two times the true one, which leaves a least-squares solution
+// unchanged (only reported energies scale). `largest` is the largest rest coordinate (of the whole
+// mesh, so that the decision does not depend on the region).
+template <class WeightPolicy, class GeomTraits>
+void compute_scale_safe_weights(Laplacian_stencils& s, const std::vector<Eigen::Vector3d>& x, double largest,
+                                const WeightPolicy& policy, const GeomTraits& gt, bool parallel)
+{
+  const int exponent = largest > 0 && std::isfinite(largest) ? std::ilogb(largest) : 0;
+  if(exponent > 30 || exponent < -30)
+  {
+    std::vector<Eigen::Vector3d> scaled(x);
+    for(Eigen::Vector3d& y : scaled)
+      y *= std::ldexp(1., -exponent);
+    compute_weights(s, scaled, policy, gt, parallel);
+  }
+  else
+    compute_weights(s, x, policy, gt, parallel);
+}
+
+// The rest operator of a representation: the one builder behind Mesh_deformer, laplacian_matrix()
+// and the metrics' Laplacian errors. Stencils (of every node, or with `region` of the nodes near
+// those vertices: laplacian_stencils_near()), rest node positions, scale-safe weights, D and
+// delta = D p_rest. The fan triangles are freed once the weights are computed. With `scale_safe`
+// the weights of far-from-unit meshes come from a power-of-two scaled copy (see
+// compute_scale_safe_weights(): right for least squares and for relative errors, not for a caller
+// that wants the operator's own values, as laplacian_matrix()).
+struct Rest_operator
+{
+  Laplacian_stencils stencils;
+  std::vector<Eigen::Vector3d> rest_nodes;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> d;
+  Eigen::MatrixX3d delta;
+};
+
+// the first half of build_rest_operator(): the stencils (fan triangles kept), the rest node
+// positions and the weights
+template <class Nodes, class VertexIndexMap, class WeightPolicy, class GeomTraits,
+          class VertexRange = std::vector<typename Nodes::vertex_descriptor>>
+void build_weighted_stencils(Laplacian_stencils& s, std::vector<Eigen::Vector3d>& rest_nodes, const Nodes& nodes,
+                             const VertexIndexMap& vertex_index, const std::vector<Eigen::Vector3d>& rest,
+                             const WeightPolicy& weights, const GeomTraits& gt, bool parallel, bool scale_safe,
+                             const VertexRange* region = nullptr)
+{
+  if constexpr(has_incident_nodes<Nodes>::value)
+  {
+    if(region != nullptr)
+      s = laplacian_stencils_near(nodes, rest.size(), vertex_index, *region);
+    else
+      s = laplacian_stencils(nodes, rest.size(), vertex_index);
+  }
+  else
+    s = laplacian_stencils(nodes, rest.size(), vertex_index);
+  node_positions(s, rest, rest_nodes);
+  double largest = 0;
+  if(scale_safe)
+    for(const Eigen::Vector3d& p : rest)
+      largest = (std::max)(largest, p.cwiseAbs().maxCoeff());
+  compute_scale_safe_weights(s, rest_nodes, largest, weights, gt, parallel);   // largest 0: as they are
+}
+
+template <class Nodes, class VertexIndexMap, class WeightPolicy, class GeomTraits,
+          class VertexRange = std::vector<typename Nodes::vertex_descriptor>>
+void build_rest_operator(Rest_operator& r, const Nodes& nodes, const VertexIndexMap& vertex_index,
+                         const std::vector<Eigen::Vector3d>& rest, const WeightPolicy& weights, const GeomTraits& gt,
+                         bool parallel, bool scale_safe, const VertexRange* region = nullptr)
+{
+  build_weighted_stencils(r.stencils, r.rest_nodes, nodes, vertex_index, rest, weights, gt, parallel, scale_safe, region);
+  // the fan triangles serve the weights only: free them before a factorisation (its peak)
+  std::vector<std::array<std::size_t, 2>>().swap(r.stencils.fan);
+  std::vector<std::size_t>().swap(r.stencils.fan_start);
+  r.d = laplacian_operator(r.stencils);
+  r.delta = operator_times_positions(r.d, rest);
 }
 
 } // namespace internal
