@@ -4,6 +4,8 @@
 // (ORIGINAL_ARAP, its default solver) on the same ROI, on CGAL's armadillo (level 0, 26k vertices)
 // and its Loop subdivisions (CGAL::Subdivision_method_3::Loop_subdivision: level 1 ~104k, level 2
 // ~416k vertices; computed once and cached as armadillo_loop<L>.off in the data folder).
+// vertex_any, edge_any (level 0 only): the same with the run-time policies Any_weights and
+// Any_transform (holding the defaults), the cost of the type erasure against the static path.
 // ROIs: "all_but_2pct" = every vertex but the 2% lowest in y (fixed), "roi_10pct" = the 10%
 // highest in y; in both the 1% highest vertices are the handle, moved up by 5% of the height.
 //
@@ -34,6 +36,8 @@
 #include <CGAL/subdivision_method_3.h>
 #include <CGAL/Laplacian_deformation/Mesh_deformer.h>
 #include <CGAL/Laplacian_deformation/Vertex_based_representation.h>
+#include <CGAL/Laplacian_deformation/Any_weights.h>
+#include <CGAL/Laplacian_deformation/Any_transform.h>
 
 #ifdef CGAL_LAPLACIAN_DEFORMATION_USE_CHOLMOD
 #include <CGAL/Laplacian_deformation/Cholmod_solver_traits.h>
@@ -306,6 +310,19 @@ struct Ours
   }
 };
 
+// the same with the run-time policies (Any_weights, Any_transform; holding the defaults, cotangent
+// weights and S*R1): the cost of the type erasure against the static path above
+template <class Representation>
+struct Ours_any : Ours<Representation>
+{
+  typedef LD::Mesh_deformer<Mesh, Representation, LD::Any_weights, LD::Any_transform, Bench_solver_traits> Deformer;
+  static void insert(Deformer& d, const Selection& s)
+  {
+    d.insert_roi_vertices(s.roi.begin(), s.roi.end());
+    d.insert_control_vertices(s.handle.begin(), s.handle.end());
+  }
+};
+
 struct Cgal_arap
 {
   typedef CGAL::Surface_mesh_deformation<Mesh, CGAL::Default, CGAL::Default, CGAL::ORIGINAL_ARAP> Deformer;
@@ -447,6 +464,11 @@ int main(int argc, char** argv)
   {
     register_method<Ours<LD::Vertex_based_representation> >("vertex", level);
     register_method<Ours<LD::Edge_based_representation> >("edge", level);
+    if(level == 0)    // the type-erased path, on the armadillo only
+    {
+      register_method<Ours_any<LD::Vertex_based_representation> >("vertex_any", level);
+      register_method<Ours_any<LD::Edge_based_representation> >("edge_any", level);
+    }
     register_method<Cgal_arap>("cgal_arap", level);
   }
   benchmark::RunSpecifiedBenchmarks();

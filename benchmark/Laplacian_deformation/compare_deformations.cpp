@@ -20,6 +20,7 @@
 // run, and the extra memory over its resident set at the start of the run (after fork the child
 // shares the parent's pages, so the extra is what the run itself allocated and touched).
 #include "deformation_task.h"
+#include "policy_names.h"
 
 #include <CGAL/Laplacian_deformation.h>
 #include <CGAL/Laplacian_deformation/metrics.h>
@@ -39,11 +40,13 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace LD = CGAL::Laplacian_deformation;
 namespace fs = std::filesystem;
+namespace policy_names = Laplacian_deformation_policy_names;
 using namespace Laplacian_deformation_benchmark;
 
 namespace {
@@ -69,19 +72,23 @@ typedef std::function<void(unsigned, const Mesh&)> Step;
 struct Method
 {
   std::string method, representation, weights, transform, start, panel;   // panel: PLY name of a default combination
-  std::function<bool(const Task&, unsigned, Mesh&, Record&, const Step&)> run;
+  typedef std::function<bool(const Task&, unsigned, Mesh&, Record&, const Step&)> Runner;
+  Runner run;
 };
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 void set_message(Record& r, const std::string& m) { std::snprintf(r.message, sizeof(r.message), "%s", m.c_str()); }
 
-template <class Representation, class Weights, class Transform>
-bool run_ours(const Task& task, unsigned iterations, LD::Deformation_start start, double rigidity, Mesh& m, Record& r,
-              const Step& step)
+// the weights and the transform are run-time policies named in policy_names.h (the tools' one
+// catalogue): one Mesh_deformer per representation
+template <class Representation>
+bool run_ours(const Task& task, unsigned iterations, const std::string& weights, const std::string& transform,
+              LD::Deformation_start start, double rigidity, Mesh& m, Record& r, const Step& step)
 {
   m = task.mesh;
-  LD::Mesh_deformer<Mesh, Representation, Weights, Transform> d(m);
+  LD::Mesh_deformer<Mesh, Representation, LD::Any_weights, LD::Any_transform> d(
+      m, policy_names::weight_policy(weights), policy_names::transform_policy(transform));
   d.set_start(start);
   d.set_rigidity_weight(rigidity);
   d.insert_roi_vertices(task.roi.begin(), task.roi.end());
@@ -134,64 +141,62 @@ bool run_cgal(const Task& task, unsigned iterations, Mesh& m, Record& r, const S
   return true;
 }
 
-// one combination with both starts (the start is captured at run time: one instantiation per combination);
+// the ours(representation, weights, transform, start, rigidity) runner (names of policy_names.h)
+Method::Runner ours(const std::string& representation, const std::string& weights, const std::string& transform,
+                    LD::Deformation_start start, double rigidity)
+{
+  if(!policy_names::find(policy_names::weight_policies(), weights) ||
+     !policy_names::find(policy_names::transform_policies(), transform))
+    throw std::logic_error("compare_deformations: no policy named " + weights + " or " + transform);
+  const bool vertex = policy_names::representation(representation) == policy_names::Representation::VERTEX;
+  return [=](const Task& task, unsigned iterations, Mesh& m, Record& r, const Step& step) {
+    return vertex ? run_ours<LD::Vertex_based_representation>(task, iterations, weights, transform, start, rigidity, m, r, step)
+                  : run_ours<LD::Edge_based_representation>(task, iterations, weights, transform, start, rigidity, m, r, step);
+  };
+}
+
+// one combination with both starts (the start and the policies are chosen at run time);
 // `panel` names the PLY of the identity start (the library's default start), if any
-template <class Representation, class Weights, class Transform>
 void add_starts(std::vector<Method>& methods, const std::string& representation, const std::string& weights,
                 const std::string& transform, const std::string& panel)
 {
   const std::pair<LD::Deformation_start, const char*> starts[] = {{LD::IDENTITY_START, "identity"},
                                                                   {LD::ROTATION_START, "rotation"}};
   for(const auto& s : starts)
-  {
-    const LD::Deformation_start start = s.first;
     methods.push_back({"ours", representation, weights, transform, s.second,
-                       start == LD::IDENTITY_START ? panel : std::string(),
-                       [start](const Task& task, unsigned iterations, Mesh& m, Record& r, const Step& step) {
-                         return run_ours<Representation, Weights, Transform>(task, iterations, start, 0., m, r, step);
-                       }});
-  }
+                       s.first == LD::IDENTITY_START ? panel : std::string(),
+                       ours(representation, weights, transform, s.first, 0.)});
 }
 
 // the recommended configurations for large rotations: rotation start and spoke rigidity rows of
 // weight 0.3 (Mesh_deformer::set_rigidity_weight), named TRANSFORM+rigid
-template <class Representation, class Weights, class Transform>
 void add_rigid(std::vector<Method>& methods, const std::string& representation, const std::string& weights,
                const std::string& transform)
 {
   methods.push_back({"ours", representation, weights, transform + "+rigid", "rotation", std::string(),
-                     [](const Task& task, unsigned iterations, Mesh& m, Record& r, const Step& step) {
-                       return run_ours<Representation, Weights, Transform>(task, iterations, LD::ROTATION_START, 0.3,
-                                                                           m, r, step);
-                     }});
+                     ours(representation, weights, transform, LD::ROTATION_START, 0.3)});
 }
 
-template <class Representation, class Weights>
 void add_transforms(std::vector<Method>& methods, const std::string& representation, const std::string& weights)
 {
   // the panels: cotangent weights, S*R1, identity start (the library's defaults)
   const std::string panel = weights == "cotangent" ? representation : std::string();
-  add_starts<Representation, Weights, LD::Fixed_transform>(methods, representation, weights, "fixed", "");
-  add_starts<Representation, Weights, LD::Rotation_transform>(methods, representation, weights, "rotation", "");
-  add_starts<Representation, Weights, LD::Similarity_transform>(methods, representation, weights, "similarity", "");
-  add_starts<Representation, Weights, LD::Scaled_rotation_transform>(methods, representation, weights, "sr1", panel);
-  add_starts<Representation, Weights, LD::Principal_scaled_rotation_transform>(methods, representation, weights, "principal", "");
-  add_starts<Representation, Weights, LD::Rotation_scale_rotation_transform>(methods, representation, weights, "rsr", "");
-  add_starts<Representation, Weights, LD::Anchored_scaled_rotation_transform>(methods, representation, weights, "anchored", "");
+  // in the order of the result files (every name of policy_names::transform_policies())
+  for(const char* transform : {"fixed", "rotation", "similarity", "sr1", "principal", "rsr", "anchored"})
+    add_starts(methods, representation, weights, transform, std::string(transform) == "sr1" ? panel : std::string());
   if(weights == "cotangent")
   {
-    add_rigid<Representation, Weights, LD::Rotation_transform>(methods, representation, weights, "rotation");
-    add_rigid<Representation, Weights, LD::Anchored_scaled_rotation_transform>(methods, representation, weights, "anchored");
+    add_rigid(methods, representation, weights, "rotation");
+    add_rigid(methods, representation, weights, "anchored");
   }
 }
 
 std::vector<Method> all_methods()
 {
   std::vector<Method> methods;
-  add_transforms<LD::Vertex_based_representation, LD::Uniform_weights>(methods, "vertex", "uniform");
-  add_transforms<LD::Vertex_based_representation, LD::Cotangent_weights>(methods, "vertex", "cotangent");
-  add_transforms<LD::Edge_based_representation, LD::Uniform_weights>(methods, "edge", "uniform");
-  add_transforms<LD::Edge_based_representation, LD::Cotangent_weights>(methods, "edge", "cotangent");
+  for(const char* representation : {"vertex", "edge"})
+    for(const char* weights : {"uniform", "cotangent"})
+      add_transforms(methods, representation, weights);
   methods.push_back({"cgal", "vertex", "cotangent", "ORIGINAL_ARAP", "", "cgal_arap", run_cgal<CGAL::ORIGINAL_ARAP>});
   methods.push_back({"cgal", "vertex", "cotangent", "SPOKES_AND_RIMS", "", "", run_cgal<CGAL::SPOKES_AND_RIMS>});
   methods.push_back({"cgal", "vertex", "cotangent", "SRE_ARAP", "", "", run_cgal<CGAL::SRE_ARAP>});

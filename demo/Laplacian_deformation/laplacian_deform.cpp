@@ -162,7 +162,7 @@ int run_tool(const std::vector<std::string>& args, std::ostream& out, std::ostre
     out << usage_text();
     return EXIT_OK;
   }
-#ifndef LAPLACIAN_DEFORM_HAS_CHOLMOD
+#ifndef CGAL_LAPLACIAN_DEFORMATION_HAS_CHOLMOD
   if(o.solver == "cholmod")
     return fail(err, EXIT_USAGE, "this build has no CHOLMOD (SuiteSparse was not found): use --solver eigen");
 #endif

@@ -19,6 +19,8 @@
 #include <CGAL/Laplacian_deformation/IO/Botsch08.h>
 #include <CGAL/Laplacian_deformation/metrics.h>
 
+#include "policy_names.h"
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -50,6 +52,7 @@ namespace laplacian_deform {
 
 namespace fs = std::filesystem;
 namespace LD = CGAL::Laplacian_deformation;
+namespace policy_names = Laplacian_deformation_policy_names;
 
 typedef CGAL::Simple_cartesian<double>               Kernel;
 typedef Kernel::Point_3                              Point_3;
@@ -338,29 +341,26 @@ inline bool parse_command_line(const std::vector<std::string>& args, Options& o,
     if(arg == "--output") { if(value.empty()) return bad("a file name"); o.output = value; }
     else if(arg == "--output-dir") { if(value.empty()) return bad("a folder"); o.output_dir = value; }
     else if(arg == "--report") { if(value.empty()) return bad("a file name"); o.report = value; }
-    else if(arg == "--representation")
+    else if(arg == "--representation")   // the names of policy_names.h, kept canonical
     {
-      if(!detail::one_of(value, {"edge", "vertex"}))
-      {
-        return bad("edge or vertex");
-      }
-      o.representation = value;
+      const auto* e = policy_names::find(policy_names::representations(), value);
+      if(e == nullptr)
+        return bad(policy_names::name_list(policy_names::representations()));
+      o.representation = e->name;
     }
     else if(arg == "--weights")
     {
-      if(!detail::one_of(value, {"cotangent", "uniform"}))
-      {
-        return bad("cotangent or uniform");
-      }
-      o.weights = value;
+      const auto* e = policy_names::find(policy_names::weight_policies(), value);
+      if(e == nullptr)
+        return bad(policy_names::name_list(policy_names::weight_policies()));
+      o.weights = e->name;
     }
     else if(arg == "--transform")
     {
-      if(!detail::one_of(value, {"sr1", "fixed", "rotation", "similarity", "principal", "rsr", "anchored"}))
-      {
-        return bad("sr1, fixed, rotation, similarity, principal, rsr or anchored");
-      }
-      o.transform = value;
+      const auto* e = policy_names::find(policy_names::transform_policies(), value);
+      if(e == nullptr)
+        return bad(policy_names::name_list(policy_names::transform_policies()));
+      o.transform = e->name;
     }
     else if(arg == "--start")
     {
@@ -1027,13 +1027,8 @@ inline const char* warning_name(LD::Deformation_warning_kind k) { return LD::war
 
 inline const char* transform_label(const std::string& t)
 {
-  if(t == "sr1") return "S*R1";
-  if(t == "fixed") return "fixed (T = I)";
-  if(t == "rotation") return "rotation";
-  if(t == "similarity") return "similarity";
-  if(t == "principal") return "principal-axes S*R1";
-  if(t == "anchored") return "anchored S*R1";
-  return "R2*S*R1";
+  const auto* e = policy_names::find(policy_names::transform_policies(), t);
+  return e ? e->label : "unknown";
 }
 
 } // namespace laplacian_deform

@@ -21,8 +21,9 @@ typedef boost::graph_traits<Mesh>::vertex_descriptor   vertex_descriptor;
 namespace LD = CGAL::Laplacian_deformation;
 
 // The policy sees one node's rest cell (its centre, its neighbours, its fan triangles) and
-// fills one weight per neighbour. It is stateless and default-constructible; the package calls
-// it once per node when it builds the Laplacian operator.
+// fills one weight per neighbour. It is default-constructible (it could also have parameters as
+// members: the deformer uses the instance it is given); the package calls it once per node when
+// it builds the Laplacian operator.
 struct Inverse_distance_weights
 {
   template <class GeomTraits>

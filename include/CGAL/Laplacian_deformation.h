@@ -20,6 +20,8 @@
 #include <CGAL/Laplacian_deformation/Principal_scaled_rotation_transform.h>
 #include <CGAL/Laplacian_deformation/Rotation_scale_rotation_transform.h>
 #include <CGAL/Laplacian_deformation/Anchored_scaled_rotation_transform.h>
+#include <CGAL/Laplacian_deformation/Any_weights.h>
+#include <CGAL/Laplacian_deformation/Any_transform.h>
 #include <CGAL/Laplacian_deformation/Least_squares_solver.h>
 #include <CGAL/Laplacian_deformation/laplacian_matrix.h>
 #include <CGAL/Laplacian_deformation/Deformation_start.h>

@@ -1,8 +1,10 @@
 // Tests of Mesh_deformer.h: the properties of DESIGN section 6 over every
-// representation x weights x transform combination, constraints, failures, re-factorisation.
+// representation x weights x transform combination, constraints, failures, re-factorisation;
+// policy instances and the run-time policies Any_weights / Any_transform.
 #include "test_helpers.h"
 
 #include <CGAL/Laplacian_deformation.h>
+#include <CGAL/Laplacian_deformation/IO/Botsch08.h>
 
 #include <CGAL/Polygon_mesh_processing/bbox.h>
 
@@ -10,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <limits>
 
@@ -998,6 +1001,225 @@ TEST(MeshDeformerStart, RigidityRowsKeepRigidMotionsAndRefuseBadWeights)
   }
   d.set_rigidity_weight(0.);
   EXPECT_TRUE(d.deform(1, 0.));
+}
+
+// ---- Policy instances and the run-time policies Any_weights / Any_transform ------------------
+
+namespace {
+
+// the cactus task of the data folder (CGAL's cactus with its Botsch08 selection and transform)
+struct Cactus
+{
+  Surface_mesh mesh;
+  std::vector<vertex_descriptor> roi, handles;
+  std::vector<Point_3> targets;
+};
+
+bool read_cactus(Cactus& c)
+{
+  if(!read_data_mesh("cactus.off", c.mesh))
+    return false;
+  std::vector<int> status;
+  Eigen::Matrix4d t;
+  std::string error;
+  std::ifstream s(data_path("cactus.sel")), d(data_path("cactus.def"));
+  if(!LD::IO::read_botsch08_selection(s, status, error, num_vertices(c.mesh)) ||
+     !LD::IO::read_botsch08_transform(d, t, error))
+    return false;
+  for(vertex_descriptor v : vertices(c.mesh))
+    if(status[std::size_t(v)] == LD::IO::BOTSCH08_REGION_OF_INTEREST)
+      c.roi.push_back(v);
+    else if(status[std::size_t(v)] == LD::IO::BOTSCH08_HANDLE)
+    {
+      c.handles.push_back(v);
+      const Point_3& p = c.mesh.point(v);
+      const Eigen::Vector4d q = t * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.);
+      c.targets.emplace_back(q.x(), q.y(), q.z());
+    }
+  return true;
+}
+
+// deforms a copy of the cactus with `d` (built on `m`), 4 iterations of deform(1, 0) from `start`
+template <class Deformer>
+LD::Deformation_result deform_cactus(Deformer& d, Surface_mesh& m, const Cactus& c, LD::Deformation_start start)
+{
+  d.set_start(start);
+  d.insert_roi_vertices(c.roi.begin(), c.roi.end());
+  d.insert_control_vertices(c.handles.begin(), c.handles.end());
+  for(std::size_t i = 0; i < c.handles.size(); ++i)
+    d.set_target_position(c.handles[i], c.targets[i]);
+  LD::Deformation_result r;
+  for(int k = 0; k < 4 && (k == 0 || r); ++k)
+    r = d.deform(1, 0.);
+  (void)m;
+  return r;
+}
+
+} // namespace
+
+// The type-erased path (Any_weights, Any_transform: one deformer type per representation) gives
+// bitwise the static one, for every representation x weights x transform and both starts.
+TYPED_TEST(EveryCombination, AnyPoliciesEqualTheStaticOnesBitwiseOnTheCactus)
+{
+  typedef typename TypeParam::Representation R;
+  typedef LD::Mesh_deformer<Surface_mesh, R, LD::Any_weights, LD::Any_transform, CGAL::Default, CGAL::Default,
+                            CGAL::Sequential_tag> Erased;
+  Cactus c;
+  ASSERT_TRUE(read_cactus(c)) << "the cactus task is missing from " << LAPLACIAN_DEFORMATION_DATA_DIR;
+  for(LD::Deformation_start start : { LD::IDENTITY_START, LD::ROTATION_START })
+  {
+    Surface_mesh a = c.mesh, b = c.mesh;
+    typename TypeParam::Deformer s(a);
+    Erased e(b, LD::Any_weights(typename TypeParam::Weights()), LD::Any_transform(typename TypeParam::Transform()));
+    ASSERT_TRUE(e.weight_policy().template holds<typename TypeParam::Weights>());
+    ASSERT_TRUE(e.transform_policy().template holds<typename TypeParam::Transform>());
+    const LD::Deformation_result rs = deform_cactus(s, a, c, start), re = deform_cactus(e, b, c, start);
+    ASSERT_TRUE(rs) << rs.message;
+    ASSERT_TRUE(re) << re.message;
+    EXPECT_EQ(rs.energies, re.energies) << "start " << int(start);
+    EXPECT_EQ(s.number_of_control_groups(), e.number_of_control_groups());
+    std::size_t differing = 0;
+    for(vertex_descriptor v : vertices(a))
+      differing += a.point(v) != b.point(v);
+    EXPECT_EQ(differing, 0u) << "start " << int(start);
+    for(std::size_t a_index : s.row_nodes())
+      ASSERT_EQ(s.node_transform(a_index), e.node_transform(a_index));
+  }
+  // laplacian_matrix() with an Any_weights: the same operator
+  const Eigen::SparseMatrix<double> ls = LD::laplacian_matrix(c.mesh, R(), typename TypeParam::Weights()),
+                                    le = LD::laplacian_matrix(c.mesh, R(), LD::Any_weights(typename TypeParam::Weights()));
+  EXPECT_EQ(ls.nonZeros(), le.nonZeros());
+  EXPECT_EQ(Eigen::MatrixXd(ls), Eigen::MatrixXd(le));
+}
+
+namespace {
+
+// stateful policies: cotangent and uniform weights blended by `t`; T = s I
+struct Blended_weights
+{
+  double t = 1.;
+  template <class GeomTraits>
+  void weights(const LD::Node_cell<GeomTraits>& cell, std::vector<double>& w) const
+  {
+    std::vector<double> u;
+    LD::Cotangent_weights().weights(cell, w);
+    LD::Uniform_weights().weights(cell, u);
+    for(std::size_t i = 0; i < w.size(); ++i)
+      w[i] = t * w[i] + (1 - t) * u[i];
+  }
+};
+struct Scaling_transform
+{
+  double s = 1.;
+  Eigen::Matrix3d transform(const LD::Transform_cell&) const { return s * Eigen::Matrix3d::Identity(); }
+};
+
+} // namespace
+
+// A policy instance with a member behaves the same in Mesh_deformer (constructor or setters),
+// deform_mesh() and laplacian_matrix().
+TEST(PolicyInstances, StatefulPoliciesBehaveTheSameEverywhere)
+{
+  typedef LD::Mesh_deformer<Surface_mesh, LD::Edge_based_representation, Blended_weights, Scaling_transform> Deformer;
+  const Blended_weights w{0.3};
+  const Scaling_transform t{1.25};
+  Surface_mesh m = bumpy_plane();
+  const Task task = patch_task(m);
+  std::vector<Point_3> targets;
+  for(vertex_descriptor v : task.controls)
+    targets.push_back(m.point(v) + Kernel::Vector_3(0, 0.1, 0.3));
+  auto select = [&](Deformer& d) {
+    d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+    d.insert_control_vertices(task.controls.begin(), task.controls.end());
+    for(std::size_t i = 0; i < task.controls.size(); ++i)
+      d.set_target_position(task.controls[i], targets[i]);
+  };
+  auto deform = [&](Deformer& d) {
+    select(d);
+    return d.deform(3, 0.);
+  };
+
+  Surface_mesh by_class = m;
+  Deformer d(by_class, w, t);
+  EXPECT_EQ(d.weight_policy().t, 0.3);
+  EXPECT_EQ(d.transform_policy().s, 1.25);
+  ASSERT_TRUE(deform(d));
+
+  Surface_mesh by_function = m;
+  ASSERT_TRUE(LD::deform_mesh(by_function, task.roi, task.controls, targets,
+      LD::parameters::weight_policy(w, LD::parameters::transform_policy(t,
+      LD::parameters::tolerance(0., CGAL::parameters::number_of_iterations(3u))))));
+  EXPECT_EQ(positions(by_function), positions(by_class));
+
+  // the setters: the same result; the weights rebuild the operator
+  Surface_mesh by_setters = m;
+  Deformer e(by_setters);
+  select(e);
+  ASSERT_TRUE(e.preprocess());
+  e.set_weight_policy(w);
+  e.set_transform_policy(t);
+  ASSERT_TRUE(e.deform(3, 0.));
+  EXPECT_EQ(positions(by_setters), positions(by_class));
+  EXPECT_EQ(e.number_of_factorizations(), 2u);
+
+  // the state matters: the default-constructed policies give another result
+  Surface_mesh by_default = m;
+  Deformer f(by_default);
+  ASSERT_TRUE(deform(f));
+  EXPECT_GT(max_distance(positions(by_default), positions(by_class), diagonal(m)), 1e-3);
+
+  // laplacian_matrix() uses the instance: D is linear in the weights
+  const Eigen::SparseMatrix<double> blended = LD::laplacian_matrix(m, LD::Edge_based_representation(), w);
+  const Eigen::SparseMatrix<double> cot = LD::laplacian_matrix(m, LD::Edge_based_representation(), LD::Cotangent_weights());
+  const Eigen::SparseMatrix<double> uni = LD::laplacian_matrix(m, LD::Edge_based_representation(), LD::Uniform_weights());
+  const Eigen::MatrixXd expected = 0.3 * Eigen::MatrixXd(cot) + 0.7 * Eigen::MatrixXd(uni);
+  EXPECT_LE((Eigen::MatrixXd(blended) - expected).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff());
+}
+
+// Any_transform holding Fixed_transform is Fixed_transform for the start; switching the
+// transform at run time takes effect at the next iteration without refactoring.
+TEST(PolicyInstances, AnyTransformSwitchesAtRunTime)
+{
+  typedef LD::Mesh_deformer<Surface_mesh, LD::Edge_based_representation, LD::Any_weights, LD::Any_transform> Erased;
+  typedef LD::Mesh_deformer<Surface_mesh, LD::Edge_based_representation, LD::Cotangent_weights,
+                            LD::Rotation_transform> Static;
+  Surface_mesh m = bumpy_plane();
+  const Task task = patch_task(m);
+  const Eigen::Vector3d c(0.5, 0.5, 0);
+  const auto turn = [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(some_rotation() * (p - c) + c); };
+
+  Surface_mesh a = m, b = m;
+  Erased e(a, LD::Cotangent_weights(), LD::Fixed_transform());
+  e.set_start(LD::ROTATION_START);
+  e.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  e.insert_control_vertices(task.controls.begin(), task.controls.end());
+  for(vertex_descriptor v : task.controls)
+    e.set_target_position(v, to_point(turn(positions(m)[std::size_t(v)])));
+  ASSERT_TRUE(e.deform(1, 0.));
+  EXPECT_EQ(e.number_of_control_groups(), 0u);   // Fixed_transform: no start field
+  // then rotation fits, continuing from the solution: as a static Rotation_transform deformer
+  // started from the same positions
+  e.set_transform_policy(LD::Rotation_transform());
+  ASSERT_TRUE(e.deform(2, 0.));
+  EXPECT_EQ(e.number_of_factorizations(), 1u);
+
+  Static s(b);
+  s.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  s.insert_control_vertices(task.controls.begin(), task.controls.end());
+  for(vertex_descriptor v : task.controls)
+    s.set_target_position(v, to_point(turn(positions(m)[std::size_t(v)])));
+  Surface_mesh fixed_once = m;
+  Erased first(fixed_once, LD::Cotangent_weights(), LD::Fixed_transform());
+  first.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  first.insert_control_vertices(task.controls.begin(), task.controls.end());
+  for(vertex_descriptor v : task.controls)
+    first.set_target_position(v, to_point(turn(positions(m)[std::size_t(v)])));
+  ASSERT_TRUE(first.deform(1, 0.));
+  for(vertex_descriptor v : vertices(b))
+    b.point(v) = fixed_once.point(v);
+  ASSERT_TRUE(s.start_from_current_positions());
+  ASSERT_TRUE(s.deform(2, 0.));
+  EXPECT_EQ(positions(a), positions(b));
 }
 
 namespace {

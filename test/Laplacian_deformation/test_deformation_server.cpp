@@ -296,6 +296,50 @@ TEST_F(Server_test, drags_move_targets_without_refactoring)
   EXPECT_NE(error("/api/drag", json{{"session", id}}.dump()).find("select a region of interest"), std::string::npos);
 }
 
+// The policy names are those of the tools' one catalogue (policy_names.h, also the command line's
+// and the harness's): the server takes every name and alias of it, and nothing else.
+TEST_F(Server_test, every_policy_name_of_the_catalogue_is_accepted)
+{
+  for(const auto& t : policy_names::transform_policies())
+    for(const char* name : {t.name, t.alias})
+    {
+      if(name == nullptr)
+        continue;
+      Policy p;
+      p.transform = name;
+      EXPECT_NO_THROW(validate_policy(p)) << name;
+    }
+  for(const auto& w : policy_names::weight_policies())
+  {
+    Policy p;
+    p.weights = w.name;
+    EXPECT_NO_THROW(validate_policy(p)) << w.name;
+  }
+  for(const auto& r : policy_names::representations())
+  {
+    Policy p;
+    p.representation = r.name;
+    EXPECT_NO_THROW(validate_policy(p)) << r.name;
+  }
+  // the editor's default S*R1 name is the catalogue's alias of sr1
+  EXPECT_EQ(policy_names::find(policy_names::transform_policies(), Policy().transform),
+            &policy_names::transform_policies()[0]);
+  Policy bad;
+  bad.transform = "SR1";
+  EXPECT_THROW(validate_policy(bad), Request_error);
+
+  // a deformation with every transform through the API: one factorisation each
+  const std::string id = selected_session();
+  post("/api/drag", {{"session", id}, {"translation", {0, 0, 0.2}}});
+  for(const auto& t : policy_names::transform_policies())
+  {
+    const json r = post("/api/policy", {{"session", id}, {"transform", t.name}, {"weights", "uniform"}});
+    EXPECT_EQ(r["policy"]["transform"], t.name);
+    EXPECT_EQ(r["factorizations"], 1) << t.name;
+    EXPECT_LT(r["handle_error"].get<double>(), 1e-9) << t.name;
+  }
+}
+
 // The lock of one session never blocks another session (nor the mesh list).
 TEST_F(Server_test, a_busy_session_does_not_block_another)
 {

@@ -5,8 +5,12 @@
 
 #include "laplacian_deform_cli.h"
 
+#include "policy_names.h"
+
 #include <CGAL/Laplacian_deformation/Mesh_deformer.h>
 #include <CGAL/Laplacian_deformation/Vertex_based_representation.h>
+#include <CGAL/Laplacian_deformation/Uniform_weights.h>
+#include <CGAL/Laplacian_deformation/Anchored_scaled_rotation_transform.h>
 
 #include <nlohmann/json.hpp>
 
@@ -104,6 +108,72 @@ TEST(LaplacianDeformCli, ParsesEveryOption)
   EXPECT_TRUE(o.comparing() && !o.main_job());
   ASSERT_TRUE(parse({"m.off", "s.sel", "--rotate", "1,0,0,30"}, o, error)) << error;
   EXPECT_FALSE(o.has_center);
+}
+
+// The one catalogue of policy names (policy_names.h): every name resolves to its policy, and the
+// command line accepts exactly its names (the editor's server and the harness resolve the same
+// table: test_server checks the server's side).
+TEST(PolicyNames, OneTableNamesEveryPolicyOfEveryTool)
+{
+  namespace names = Laplacian_deformation_policy_names;
+  struct Expected { const char* name; std::size_t index; };
+  // Any_transform's alternatives: S*R1, fixed, rotation, similarity, principal, R2*S*R1, anchored
+  const Expected transforms[] = {{"sr1", 0}, {"scaled_rotation", 0}, {"fixed", 1}, {"rotation", 2},
+                                 {"similarity", 3}, {"principal", 4}, {"rsr", 5}, {"anchored", 6}};
+  EXPECT_TRUE(names::transform_policy("sr1").holds<LD::Scaled_rotation_transform>());
+  EXPECT_TRUE(names::transform_policy("scaled_rotation").holds<LD::Scaled_rotation_transform>());
+  EXPECT_TRUE(names::transform_policy("fixed").holds<LD::Fixed_transform>());
+  EXPECT_TRUE(names::transform_policy("rotation").holds<LD::Rotation_transform>());
+  EXPECT_TRUE(names::transform_policy("similarity").holds<LD::Similarity_transform>());
+  EXPECT_TRUE(names::transform_policy("principal").holds<LD::Principal_scaled_rotation_transform>());
+  EXPECT_TRUE(names::transform_policy("rsr").holds<LD::Rotation_scale_rotation_transform>());
+  EXPECT_TRUE(names::transform_policy("anchored").holds<LD::Anchored_scaled_rotation_transform>());
+  EXPECT_TRUE(names::weight_policy("cotangent").holds<LD::Cotangent_weights>());
+  EXPECT_TRUE(names::weight_policy("uniform").holds<LD::Uniform_weights>());
+  EXPECT_EQ(names::representation("vertex"), names::Representation::VERTEX);
+  EXPECT_EQ(names::representation("edge"), names::Representation::EDGE);
+  // the defaults of the tools are the library's: the first entries
+  EXPECT_EQ(cli::Options().transform, names::transform_policies()[0].name);
+  EXPECT_EQ(cli::Options().weights, names::weight_policies()[0].name);
+  EXPECT_EQ(cli::Options().representation, names::representations()[0].name);
+  EXPECT_EQ(names::transform_policies()[0].policy.index(), LD::Any_transform().index());
+  EXPECT_EQ(names::weight_policies()[0].policy.index(), LD::Any_weights().index());
+
+  // every name (and alias) once; the command line takes each, canonical
+  cli::Options o;
+  std::string error;
+  std::size_t table_names = 0;
+  for(const auto& e : names::transform_policies())
+    table_names += 1 + (e.alias != nullptr);
+  EXPECT_EQ(table_names, std::size(transforms));
+  for(const Expected& t : transforms)
+  {
+    const auto* e = names::find(names::transform_policies(), t.name);
+    ASSERT_NE(e, nullptr) << t.name;
+    EXPECT_EQ(e->policy.index(), t.index) << t.name;
+    ASSERT_TRUE(parse({"--transform", t.name}, o, error)) << error;
+    EXPECT_EQ(o.transform, e->name);
+    EXPECT_EQ(names::transform_policy(o.transform).index(), t.index) << t.name;
+    EXPECT_STRNE(cli::transform_label(o.transform), "unknown");
+  }
+  for(const auto& e : names::weight_policies())
+  {
+    ASSERT_TRUE(parse({"--weights", e.name}, o, error)) << error;
+    EXPECT_EQ(names::weight_policy(o.weights).index(), e.policy.index());
+  }
+  for(const auto& e : names::representations())
+  {
+    ASSERT_TRUE(parse({"m.off", "s.sel", "d.def", "--representation", e.name}, o, error)) << error;
+    EXPECT_EQ(names::representation(o.representation), e.policy);
+  }
+  EXPECT_EQ(parse_error({"--weights", "cot"}), "option --weights: expected " + names::name_list(names::weight_policies()) +
+                                                   ", got 'cot'");
+  EXPECT_EQ(parse_error({"--representation", "face"}), "option --representation: expected edge or vertex, got 'face'");
+  // the help lists the table's names
+  const std::string help = cli::usage_text();
+  EXPECT_NE(help.find("--transform " + names::name_choices(names::transform_policies())), std::string::npos);
+  EXPECT_NE(help.find("--weights " + names::name_choices(names::weight_policies())), std::string::npos);
+  EXPECT_NE(help.find("--representation " + names::name_choices(names::representations())), std::string::npos);
 }
 
 TEST(LaplacianDeformCli, RejectsBadCommandLines)
@@ -274,7 +344,7 @@ protected:
 
 // The deformation the library gives for the cactus task (the CLI's defaults: cotangent, S*R1,
 // hard constraints, 4 iterations, tolerance 0).
-template <class Representation>
+template <class Representation, class Weights = LD::Cotangent_weights, class Transform = LD::Scaled_rotation_transform>
 cli::Mesh library_result(LD::Deformation_start start = LD::IDENTITY_START)
 {
   cli::Mesh mesh;
@@ -285,7 +355,7 @@ cli::Mesh library_result(LD::Deformation_start start = LD::IDENTITY_START)
   std::ifstream s(data_path("cactus.sel")), d(data_path("cactus.def"));
   EXPECT_TRUE(LD::IO::read_botsch08_selection(s, status, error, num_vertices(mesh))) << error;
   EXPECT_TRUE(LD::IO::read_botsch08_transform(d, t, error)) << error;
-  LD::Mesh_deformer<cli::Mesh, Representation> deformer(mesh);
+  LD::Mesh_deformer<cli::Mesh, Representation, Weights, Transform> deformer(mesh);
   deformer.set_start(start);
   std::vector<cli::vertex_descriptor> handles;
   for(cli::vertex_descriptor v : vertices(mesh))
@@ -353,6 +423,13 @@ TEST_F(LaplacianDeformTool, CactusTaskReproducesTheLibraryExactly)
   for(cli::vertex_descriptor v : vertices(identity))
     difference = (std::max)(difference, std::sqrt(CGAL::squared_distance(identity.point(v), rotation.point(v))));
   EXPECT_GT(difference, 1e-3);
+
+  // other policies (run-time policies in the tool): the library's static types, bit for bit
+  const Tool_result o = run({cactus, sel, def, "--representation", "vertex", "--weights", "uniform",
+                             "--transform", "anchored", "--start", "rotation", "-o", "other.off"});
+  ASSERT_EQ(o.code, 0) << o.err;
+  expect_identical(dir / "other.off", library_result<LD::Vertex_based_representation, LD::Uniform_weights,
+                                                     LD::Anchored_scaled_rotation_transform>(LD::ROTATION_START));
 }
 
 TEST_F(LaplacianDeformTool, MainJobReproducesTheLibraryWithBothRepresentations)

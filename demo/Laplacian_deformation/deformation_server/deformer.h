@@ -2,8 +2,9 @@
 // SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
 // Author(s): Laplacian_deformation team
 //
-// laplacian_deform --serve, the deformer of a session: representation x weights x transform
-// chosen at run time behind a type-erased interface, and the handle motion of a drag.
+// laplacian_deform --serve, the deformer of a session: the representation chosen at run time
+// behind a type-erased interface, the weights and the transform as run-time policies (Any_weights,
+// Any_transform, named in policy_names.h), and the handle motion of a drag.
 #ifndef LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_DEFORMER_H
 #define LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_DEFORMER_H
 
@@ -12,11 +13,10 @@
 #include <CGAL/Laplacian_deformation/Mesh_deformer.h>
 #include <CGAL/Laplacian_deformation/Edge_based_representation.h>
 #include <CGAL/Laplacian_deformation/Vertex_based_representation.h>
-#include <CGAL/Laplacian_deformation/Cotangent_weights.h>
-#include <CGAL/Laplacian_deformation/Uniform_weights.h>
-#include <CGAL/Laplacian_deformation/Rotation_transform.h>
-#include <CGAL/Laplacian_deformation/Scaled_rotation_transform.h>
-#include <CGAL/Laplacian_deformation/Similarity_transform.h>
+#include <CGAL/Laplacian_deformation/Any_weights.h>
+#include <CGAL/Laplacian_deformation/Any_transform.h>
+
+#include "policy_names.h"
 
 #include <Eigen/Geometry>
 
@@ -26,6 +26,7 @@
 namespace Laplacian_deformation_server {
 
 namespace LD = CGAL::Laplacian_deformation;
+namespace policy_names = Laplacian_deformation_policy_names;
 
 typedef CGAL::Simple_cartesian<double>               Kernel;
 typedef Kernel::Point_3                              Point_3;
@@ -36,8 +37,8 @@ typedef boost::graph_traits<Mesh>::vertex_descriptor vertex_descriptor;
 struct Policy
 {
   std::string representation = "edge";      ///< "edge" or "vertex"
-  std::string weights = "cotangent";        ///< "cotangent" or "uniform"
-  std::string transform = "scaled_rotation";///< "scaled_rotation" (S*R1), "rotation" or "similarity"
+  std::string weights = "cotangent";        ///< a name of policy_names::weight_policies()
+  std::string transform = "scaled_rotation";///< a name of policy_names::transform_policies() ("scaled_rotation": S*R1)
   std::string start = "identity";           ///< "identity" or "rotation" (Mesh_deformer::set_start)
 };
 
@@ -56,11 +57,12 @@ public:
   virtual std::size_t number_of_factorizations() const = 0;
 };
 
-template <class Representation, class Weights, class Transform>
+template <class Representation>
 class Deformer_model : public Deformer_interface
 {
 public:
-  explicit Deformer_model(Mesh& mesh) : m_deformer(mesh) {}
+  Deformer_model(Mesh& mesh, const LD::Any_weights& weights, const LD::Any_transform& transform)
+    : m_deformer(mesh, weights, transform) {}
   void insert_roi_vertex(vertex_descriptor v) override { m_deformer.insert_roi_vertex(v); }
   void insert_control_vertex(vertex_descriptor v) override { m_deformer.insert_control_vertex(v); }
   bool preprocess() override { return m_deformer.preprocess(); }
@@ -75,36 +77,20 @@ public:
   std::size_t number_of_factorizations() const override { return m_deformer.number_of_factorizations(); }
 
 private:
-  LD::Mesh_deformer<Mesh, Representation, Weights, Transform> m_deformer;
+  LD::Mesh_deformer<Mesh, Representation, LD::Any_weights, LD::Any_transform> m_deformer;
 };
-
-namespace internal {
-
-template <class R, class W>
-std::unique_ptr<Deformer_interface> make_deformer_t(Mesh& mesh, const std::string& transform)
-{
-  if(transform == "rotation")
-    return std::make_unique<Deformer_model<R, W, LD::Rotation_transform> >(mesh);
-  if(transform == "similarity")
-    return std::make_unique<Deformer_model<R, W, LD::Similarity_transform> >(mesh);
-  return std::make_unique<Deformer_model<R, W, LD::Scaled_rotation_transform> >(mesh);
-}
-template <class R>
-std::unique_ptr<Deformer_interface> make_deformer_w(Mesh& mesh, const Policy& p)
-{
-  return p.weights == "uniform" ? make_deformer_t<R, LD::Uniform_weights>(mesh, p.transform)
-                                : make_deformer_t<R, LD::Cotangent_weights>(mesh, p.transform);
-}
-
-} // namespace internal
 
 /// A deformer for `mesh` (whose current positions become the rest positions) with the policies of `p`
 /// (assumed valid; see `validate_policy`).
 inline std::unique_ptr<Deformer_interface> make_deformer(Mesh& mesh, const Policy& p)
 {
-  std::unique_ptr<Deformer_interface> d =
-      p.representation == "vertex" ? internal::make_deformer_w<LD::Vertex_based_representation>(mesh, p)
-                                   : internal::make_deformer_w<LD::Edge_based_representation>(mesh, p);
+  const LD::Any_weights weights = policy_names::weight_policy(p.weights);
+  const LD::Any_transform transform = policy_names::transform_policy(p.transform);
+  std::unique_ptr<Deformer_interface> d;
+  if(policy_names::representation(p.representation) == policy_names::Representation::VERTEX)
+    d = std::make_unique<Deformer_model<LD::Vertex_based_representation> >(mesh, weights, transform);
+  else
+    d = std::make_unique<Deformer_model<LD::Edge_based_representation> >(mesh, weights, transform);
   d->set_start(p.start == "rotation" ? LD::ROTATION_START : LD::IDENTITY_START);
   return d;
 }

@@ -109,13 +109,16 @@ inline json policy_json(const Policy& p)
 
 inline void validate_policy(const Policy& p)
 {
-  if(p.representation != "edge" && p.representation != "vertex")
-    throw Request_error{400, "representation must be \"edge\" or \"vertex\", got \"" + p.representation + "\""};
-  if(p.weights != "cotangent" && p.weights != "uniform")
-    throw Request_error{400, "weights must be \"cotangent\" or \"uniform\", got \"" + p.weights + "\""};
-  if(p.transform != "scaled_rotation" && p.transform != "rotation" && p.transform != "similarity")
-    throw Request_error{400, "transform must be \"scaled_rotation\", \"rotation\" or \"similarity\", got \"" +
-                                 p.transform + "\""};
+  // the names of policy_names.h (a transform's alias too: S*R1 is "scaled_rotation" in the editor)
+  if(!policy_names::find(policy_names::representations(), p.representation))
+    throw Request_error{400, "representation must be " + policy_names::name_list(policy_names::representations(), "\"") +
+                                 ", got \"" + p.representation + "\""};
+  if(!policy_names::find(policy_names::weight_policies(), p.weights))
+    throw Request_error{400, "weights must be " + policy_names::name_list(policy_names::weight_policies(), "\"") +
+                                 ", got \"" + p.weights + "\""};
+  if(!policy_names::find(policy_names::transform_policies(), p.transform))
+    throw Request_error{400, "transform must be " + policy_names::name_list(policy_names::transform_policies(), "\"", true) +
+                                 ", got \"" + p.transform + "\""};
   if(p.start != "identity" && p.start != "rotation")
     throw Request_error{400, "start must be \"identity\" or \"rotation\", got \"" + p.start + "\""};
 }

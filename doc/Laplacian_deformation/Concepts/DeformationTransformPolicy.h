@@ -16,9 +16,11 @@ maps (the paper's equation 7).
 
 The policy is called for every node that carries a row of the system, in parallel when the
 deformer's `ConcurrencyTag` allows it: `transform()` is `const` and must be safe to call
-concurrently. It is default-constructed once per deformer and should be stateless (an instance
-passed to `deform_mesh()` only selects the type); it need not be copyable or assignable, and it
-reads the cell only through the documented members of `Transform_cell`. The first iteration after `preprocess()` or
+concurrently. The deformer keeps one instance: default-constructed, or a copy of the one given to
+its constructor, to `set_transform_policy()` or to `deform_mesh()` (the policy may then have
+state, and must be `CopyConstructible`, or `CopyAssignable` for the setter; otherwise it need
+not be copyable or assignable, see \ref LapDefRunTime). It reads the cell only through the
+documented members of `Transform_cell`. The first iteration after `preprocess()` or
 `reset()` does not call it (it uses `T_a = I`). A returned matrix that is not finite makes
 `deform()` fail with `NON_FINITE_RESULT` (nothing is written).
 
@@ -41,6 +43,8 @@ Laplacian energy, so the energy is not guaranteed to decrease from one iteration
 \cgalHasModels{CGAL::Laplacian_deformation::Scaled_rotation_transform}
 \cgalHasModels{CGAL::Laplacian_deformation::Principal_scaled_rotation_transform}
 \cgalHasModels{CGAL::Laplacian_deformation::Rotation_scale_rotation_transform}
+\cgalHasModels{CGAL::Laplacian_deformation::Anchored_scaled_rotation_transform}
+\cgalHasModels{CGAL::Laplacian_deformation::Transform_policy_variant}
 \cgalHasModelsEnd
 
 \sa `CGAL::Laplacian_deformation::Transform_cell`

@@ -16,17 +16,18 @@ The policy sees the cell through `CGAL::Laplacian_deformation::Node_cell`: the n
 its neighbours' positions and its fan triangles (as pairs of local neighbour indices), as points
 of the kernel `GeomTraits` deduced from the vertex point map.
 The weights must be finite; they may be negative (as cotangent weights across obtuse angles).
-The package default-constructs the policy (`Mesh_deformer` and `deform_mesh()` use
-`WeightPolicy()`; an instance passed to `deform_mesh()` only selects the type), so a policy
-should be stateless; `laplacian_matrix()` uses the instance it is given. The policy need not be
-copyable or assignable (the package never copies it), and it only reads the cell through the
-documented members of `Node_cell`.
+`Mesh_deformer` keeps one instance: default-constructed, or a copy of the one given to its
+constructor, to `set_weight_policy()` or to `deform_mesh()`; `laplacian_matrix()` uses the
+instance it is given. A policy may therefore have state (it must then be `CopyConstructible`, or
+`CopyAssignable` for the setter; otherwise it need not be copyable or assignable, see
+\ref LapDefRunTime). It only reads the cell through the documented members of `Node_cell`.
 
 \cgalRefines{DefaultConstructible}
 
 \cgalHasModelsBegin
 \cgalHasModels{CGAL::Laplacian_deformation::Uniform_weights}
 \cgalHasModels{CGAL::Laplacian_deformation::Cotangent_weights}
+\cgalHasModels{CGAL::Laplacian_deformation::Weight_policy_variant}
 \cgalHasModelsEnd
 
 \sa `DeformationNodes`

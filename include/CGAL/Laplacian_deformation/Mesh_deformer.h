@@ -11,6 +11,7 @@
 #include <CGAL/Laplacian_deformation/laplacian_matrix.h>
 #include <CGAL/Laplacian_deformation/internal/Deformation_core.h>
 #include <CGAL/Laplacian_deformation/internal/Deformation_types.h>
+#include <CGAL/Laplacian_deformation/internal/Policy_variant.h>
 #include <CGAL/Laplacian_deformation/internal/Rotation_start.h>
 
 #include <CGAL/Iterator_range.h>
@@ -65,8 +66,8 @@ another mesh whose index is in range is indistinguishable from the vertex of thi
 
 \tparam TriangleMesh a model of `FaceGraph`; its faces may be polygons (see \ref LapDefPolygons)
 \tparam Representation a model of `DeformationRepresentation`; `CGAL::Default`: `Edge_based_representation`
-\tparam WeightPolicy a model of `DeformationWeightPolicy`; `CGAL::Default`: `Cotangent_weights`
-\tparam TransformPolicy a model of `DeformationTransformPolicy`; `CGAL::Default`: `Scaled_rotation_transform`
+\tparam WeightPolicy a model of `DeformationWeightPolicy`; `CGAL::Default`: `Cotangent_weights`; `Any_weights` to choose it at run time (see \ref LapDefRunTime)
+\tparam TransformPolicy a model of `DeformationTransformPolicy`; `CGAL::Default`: `Scaled_rotation_transform`; `Any_transform` to choose it at run time
 \tparam SolverTraits a model of `SparseLinearAlgebraWithFactorTraits_d` (see `Least_squares_solver`); `CGAL::Default`: `Default_solver_traits`
 \tparam VertexPointMap a model of `ReadWritePropertyMap` from vertices to points; `CGAL::Default`: the internal point map
 \tparam ConcurrencyTag `CGAL::Sequential_tag`, `CGAL::Parallel_tag` or `CGAL::Parallel_if_available_tag`: whether the local step, the right-hand sides, the rest-cell weights and `A^T A` use \tbb's threads (then the weight and transform policies are called from several threads at once; the results do not depend on it up to round-off, see \ref LapDefPerformance)
@@ -98,15 +99,65 @@ public:
   /// \name Construction
   /// @{
 
-  /// creates a deformer for `tm`, whose current positions become the rest positions.
-  /// `tm` must outlive the deformer, and its topology must not change.
-  explicit Mesh_deformer(Triangle_mesh& tm) : Mesh_deformer(tm, get(CGAL::vertex_point, tm)) {}
-  /// creates a deformer for `tm` whose points are given by `vpm`.
+  /// creates a deformer for `tm`, whose current positions become the rest positions, with
+  /// default-constructed policies. `tm` must outlive the deformer, and its topology must not change.
+  explicit Mesh_deformer(Triangle_mesh& tm)
+    : Mesh_deformer(Construct(), tm, get(CGAL::vertex_point, tm), internal::Default_policy()) {}
+  /// creates a deformer for `tm` whose points are given by `vpm`, with default-constructed policies.
   Mesh_deformer(Triangle_mesh& tm, Vertex_point_map vpm)
+    : Mesh_deformer(Construct(), tm, vpm, internal::Default_policy()) {}
+  /// creates a deformer for `tm` with a copy of `weights` (which must then be `CopyConstructible`)
+  /// and of `transform` (a default-constructed one if not given), used by every call of the
+  /// deformer, e.g. an `Any_weights` and an `Any_transform` chosen at run time (see \ref LapDefRunTime).
+  Mesh_deformer(Triangle_mesh& tm, const Weight_policy& weights)
+    : Mesh_deformer(Construct(), tm, get(CGAL::vertex_point, tm), weights) {}
+  /// \copydoc Mesh_deformer(Triangle_mesh&, const Weight_policy&)
+  Mesh_deformer(Triangle_mesh& tm, const Weight_policy& weights, const Transform_policy& transform)
+    : Mesh_deformer(Construct(), tm, get(CGAL::vertex_point, tm), weights, transform) {}
+  /// the same with the points given by `vpm`.
+  Mesh_deformer(Triangle_mesh& tm, Vertex_point_map vpm, const Weight_policy& weights)
+    : Mesh_deformer(Construct(), tm, vpm, weights) {}
+  /// the same with the points given by `vpm`.
+  Mesh_deformer(Triangle_mesh& tm, Vertex_point_map vpm, const Weight_policy& weights,
+                const Transform_policy& transform)
+    : Mesh_deformer(Construct(), tm, vpm, weights, transform) {}
+  Mesh_deformer(const Mesh_deformer&) = delete;
+  Mesh_deformer& operator=(const Mesh_deformer&) = delete;
+  /// @}
+
+  /// \name Policies
+  /// @{
+
+  /// the weight policy (given at construction or by `set_weight_policy()`).
+  const Weight_policy& weight_policy() const { return m_weights; }
+  /// the transform policy (given at construction or by `set_transform_policy()`).
+  const Transform_policy& transform_policy() const { return m_core.policy(); }
+  /// replaces the weight policy (`Weight_policy` must be `CopyAssignable`): the Laplacian operator
+  /// is rebuilt and the system refactored at the next call.
+  void set_weight_policy(const Weight_policy& weights)
+  {
+    m_weights = weights;
+    m_operator_ready = false;
+    m_need_preprocess = true;
+  }
+  /// replaces the transform policy (`Transform_policy` must be `CopyAssignable`): the next
+  /// iterations fit their transforms with it, from the current solution (call `reset()` to start
+  /// over). Never refactors.
+  void set_transform_policy(const Transform_policy& transform) { m_core.set_policy(transform); }
+  /// @}
+
+private:
+  struct Construct {};
+  // the constructor of all the others: `weights` is a Weight_policy or internal::Default_policy,
+  // `transform` is empty (default-constructed) or a Transform_policy
+  template <class Weights, class... Transform>
+  Mesh_deformer(Construct, Triangle_mesh& tm, Vertex_point_map vpm, const Weights& weights,
+                const Transform&... transform)
     : m_tm(tm), m_vpm(vpm), m_vim(CGAL::get_initialized_vertex_index_map(tm)),
       m_number_of_vertices(num_vertices(tm)), m_number_of_edges(num_edges(tm)),
       m_is_roi(m_number_of_vertices, 0), m_is_control(m_number_of_vertices, 0),
       m_moved(m_number_of_vertices, 0), m_target(m_number_of_vertices),
+      m_weights(internal::make_policy<Weight_policy>(weights)), m_core(transform...),
       m_target_rotation(m_number_of_vertices, Eigen::Quaterniond::Identity()),
       m_rotation_known(m_number_of_vertices, 0)
   {
@@ -117,9 +168,8 @@ public:
       if(index(v) < m_number_of_vertices)
         m_vertex_at_index[index(v)] = v;
   }
-  Mesh_deformer(const Mesh_deformer&) = delete;
-  Mesh_deformer& operator=(const Mesh_deformer&) = delete;
-  /// @}
+
+public:
 
   /// \name Region of interest and control vertices
   /// @{
@@ -513,8 +563,9 @@ private:
 
   std::size_t index(vertex_descriptor v) const { return static_cast<std::size_t>(get(m_vim, v)); }
 
-  // the start applies to the policies that fit a transform (Fixed_transform keeps T = I)
-  static constexpr bool uses_start() { return !std::is_same<Transform_policy, Fixed_transform>::value; }
+  // the start applies to the policies that fit a transform (Fixed_transform keeps T = I), also
+  // when a run-time policy holds it
+  bool uses_start() const { return internal::fits_transform(m_core.policy()); }
 
   // a quaternion as an Eigen one: exactly (with its winding) for Eigen's, else from its action
   template <class Vect, class Quaternion>
@@ -665,7 +716,7 @@ private:
       return;
     m_nodes.emplace(m_tm, m_vpm);
     internal::Rest_operator r;
-    internal::build_rest_operator(r, *m_nodes, m_vim, m_rest, Weight_policy(), Geom_traits(),
+    internal::build_rest_operator(r, *m_nodes, m_vim, m_rest, m_weights, Geom_traits(),
                                   internal::runs_in_parallel<ConcurrencyTag>(), true, &m_roi);
     m_stencils = std::move(r.stencils);
     m_rest_nodes = std::move(r.rest_nodes);
@@ -878,6 +929,7 @@ private:
   std::vector<Eigen::Vector3d> m_rest_normals;             // and their rest normals
   std::vector<unsigned char> m_is_roi, m_is_control, m_moved, m_role;
   std::vector<Point> m_target;
+  Weight_policy m_weights;
   std::optional<Nodes> m_nodes;
   internal::Laplacian_stencils m_stencils;
   Eigen::SparseMatrix<double, Eigen::RowMajor> m_d;

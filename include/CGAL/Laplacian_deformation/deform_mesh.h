@@ -30,6 +30,35 @@ template <class Tag, class NamedParameters, class Default>
 using Policy_parameter_t = typename Unwrap_parameter<
     typename CGAL::internal_np::Lookup_named_param_def<Tag, NamedParameters, Default>::type>::type;
 
+// the policy instance of a named parameter (a copy), or a default-constructed one
+template <class Policy, class Tag, class NamedParameters>
+Policy policy_parameter(const NamedParameters& np, Tag tag)
+{
+  if constexpr(CGAL::parameters::is_default_parameter<NamedParameters, Tag>::value)
+    return Policy();
+  else
+    return CGAL::internal_np::get_reference(CGAL::parameters::get_parameter(np, tag));
+}
+
+// The deformer of deform_mesh(): with copies of the policy instances of `np`. A policy that is
+// not CopyConstructible cannot be stored: it is default-constructed (the weights only when both
+// are not copyable, the transform whenever it is not).
+template <class Deformer, class TriangleMesh, class VertexPointMap, class NamedParameters>
+Deformer make_deformer(TriangleMesh& tm, const VertexPointMap& vpm, const NamedParameters& np)
+{
+  typedef typename Deformer::Weight_policy Weights;
+  typedef typename Deformer::Transform_policy Transform;
+  constexpr bool copy_weights = std::is_copy_constructible<Weights>::value;
+  constexpr bool copy_transform = std::is_copy_constructible<Transform>::value;
+  if constexpr(copy_weights && copy_transform)
+    return Deformer(tm, vpm, policy_parameter<Weights>(np, internal_np::weight_policy),
+                    policy_parameter<Transform>(np, internal_np::transform_policy));
+  else if constexpr(copy_weights)
+    return Deformer(tm, vpm, policy_parameter<Weights>(np, internal_np::weight_policy));
+  else
+    return Deformer(tm, vpm);
+}
+
 } // namespace internal
 
 /*!
@@ -60,11 +89,11 @@ as `controls`.
     \cgalParamDefault{`Edge_based_representation()`}
   \cgalParamNEnd
   \cgalParamNBegin{weight_policy}
-    \cgalParamDescription{a model of `DeformationWeightPolicy` (package parameter)}
+    \cgalParamDescription{a model of `DeformationWeightPolicy` (package parameter): the deformer uses a copy of it if it is `CopyConstructible` (a stateful policy, or an `Any_weights` chosen at run time), else a default-constructed one}
     \cgalParamDefault{`Cotangent_weights()`}
   \cgalParamNEnd
   \cgalParamNBegin{transform_policy}
-    \cgalParamDescription{a model of `DeformationTransformPolicy` (package parameter)}
+    \cgalParamDescription{a model of `DeformationTransformPolicy` (package parameter): the deformer uses a copy of it if it is `CopyConstructible` (a stateful policy, or an `Any_transform` chosen at run time), else a default-constructed one}
     \cgalParamDefault{`Scaled_rotation_transform()`}
   \cgalParamNEnd
   \cgalParamNBegin{sparse_linear_solver}
@@ -114,9 +143,11 @@ Deformation_result deform_mesh(TriangleMesh& tm, const VertexRange& roi, const C
       internal_np::concurrency_tag_t, NamedParameters, CGAL::Parallel_if_available_tag>::type Concurrency;
   typedef typename GetVertexPointMap<TriangleMesh, NamedParameters>::type Vertex_point_map;
 
-  Mesh_deformer<TriangleMesh, Representation, Weights, Transform, Solver, Vertex_point_map, Concurrency>
-      deformer(tm, choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
-                                    get_property_map(CGAL::vertex_point, tm)));
+  typedef Mesh_deformer<TriangleMesh, Representation, Weights, Transform, Solver, Vertex_point_map, Concurrency>
+      Deformer;
+  Deformer deformer = internal::make_deformer<Deformer>(
+      tm, choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point), get_property_map(CGAL::vertex_point, tm)),
+      np);
   if(std::distance(std::begin(controls), std::end(controls)) != std::distance(std::begin(targets), std::end(targets)))
   {
     Deformation_result result;

@@ -11,6 +11,7 @@
 #include <CGAL/Laplacian_deformation/internal/Laplacian_stencils.h>
 #include <CGAL/Laplacian_deformation/internal/closest_rotation_3.h>
 #include <CGAL/Laplacian_deformation/internal/parallel.h>
+#include <CGAL/Laplacian_deformation/internal/Policy_variant.h>
 
 #include <CGAL/tags.h>
 
@@ -49,6 +50,13 @@ class Deformation_core
 {
 public:
   typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Operator;
+
+  // the transform policy: default-constructed, or a copy of `policy`
+  Deformation_core() = default;
+  explicit Deformation_core(const TransformPolicy& policy) : m_policy(policy) {}
+  // the policy of the next local steps (the system does not depend on it)
+  void set_policy(const TransformPolicy& policy) { m_policy = policy; }
+  const TransformPolicy& policy() const { return m_policy; }
 
   // `d`: the full operator (rows x vertices, by rows); `delta` = D p_rest; `rest_nodes` = P p_rest.
   // Row r of D uses the transform of node `owner[r]` (b_r = T_owner delta_r); without `owner`,
@@ -468,10 +476,19 @@ private:
     return std::accumulate(m_row_energy.begin(), m_row_energy.end(), 0.);
   }
 
+  // local_step_with() with the policy held by a run-time policy (one dispatch per iteration, the
+  // loops over the nodes call the held policy itself), or with m_policy
+  std::size_t local_step(const std::vector<Eigen::Vector3d>& p)
+  {
+    return visit_policy(m_policy, [&](const auto& policy) { return local_step_with(policy, p); });
+  }
+
   // fits T_a for every fitted node, in parallel when ConcurrencyTag allows it; each block of rows
   // gathers its cells into buffers of its own (one allocation per block, none per row). Returns
   // the number of nodes whose fit is not finite (their transforms are left as they were).
-  std::size_t local_step(const std::vector<Eigen::Vector3d>& p)
+  // `policy` is a concrete policy.
+  template <class Policy>
+  std::size_t local_step_with(const Policy& policy, const std::vector<Eigen::Vector3d>& p)
   {
     std::atomic<std::size_t> failed(0);
     const Laplacian_stencils& s = *m_stencils;
@@ -512,7 +529,7 @@ private:
           current_edges[i] *= unit;
         }
         const Transform_cell cell(rest_edges.data(), current_edges.data(), fit_weights.data(), degree);
-        const Eigen::Matrix3d t = m_policy.transform(cell);
+        const Eigen::Matrix3d t = policy.transform(cell);
         if(t.allFinite())
           m_transforms[r] = t;
         else

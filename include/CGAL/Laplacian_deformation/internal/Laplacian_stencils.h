@@ -7,6 +7,7 @@
 
 #include <CGAL/Laplacian_deformation/Node_cell.h>
 #include <CGAL/Laplacian_deformation/internal/parallel.h>
+#include <CGAL/Laplacian_deformation/internal/Policy_variant.h>
 
 #include <CGAL/assertions.h>
 
@@ -233,10 +234,11 @@ inline void node_positions(const Laplacian_stencils& s, const std::vector<Eigen:
 }
 
 // Fills s.weight with the weight policy evaluated on every rest cell; with `parallel` (and TBB)
-// the nodes are shared among TBB's threads (each cell is independent).
+// the nodes are shared among TBB's threads (each cell is independent). `policy` is a concrete
+// policy (see compute_weights()).
 template <class WeightPolicy, class GeomTraits>
-void compute_weights(Laplacian_stencils& s, const std::vector<Eigen::Vector3d>& x,
-                     const WeightPolicy& policy, const GeomTraits& gt, bool parallel = false)
+void compute_weights_with(Laplacian_stencils& s, const std::vector<Eigen::Vector3d>& x,
+                          const WeightPolicy& policy, const GeomTraits& gt, bool parallel)
 {
   typedef typename GeomTraits::Point_3 Point_3;
   auto point = [](const Eigen::Vector3d& p) { return Point_3(p.x(), p.y(), p.z()); };
@@ -259,6 +261,15 @@ void compute_weights(Laplacian_stencils& s, const std::vector<Eigen::Vector3d>& 
       std::copy(w.begin(), w.end(), s.weight.begin() + first);
     }
   }, 1024);
+}
+
+// compute_weights_with() with the policy held by a run-time policy (one dispatch for all the
+// cells), or with `policy` itself
+template <class WeightPolicy, class GeomTraits>
+void compute_weights(Laplacian_stencils& s, const std::vector<Eigen::Vector3d>& x,
+                     const WeightPolicy& policy, const GeomTraits& gt, bool parallel = false)
+{
+  visit_policy(policy, [&](const auto& p) { compute_weights_with(s, x, p, gt, parallel); });
 }
 
 // P: nodes x vertices, x = P p.
