@@ -117,7 +117,7 @@ as `controls`.
     \cgalParamDefault{`IDENTITY_START`}
   \cgalParamNEnd
   \cgalParamNBegin{concurrency_tag}
-    \cgalParamDescription{`CGAL::Sequential_tag` or `CGAL::Parallel_tag` for the local step (package parameter)}
+    \cgalParamDescription{`CGAL::Sequential_tag`, `CGAL::Parallel_tag` or `CGAL::Parallel_if_available_tag`: whether the local step, the right-hand sides, the rest-cell weights and \f$A^T A\f$ use \tbb's threads, as `Mesh_deformer`'s `ConcurrencyTag` (package parameter; the weight and transform policies are then called from several threads at once)}
     \cgalParamDefault{`CGAL::Parallel_if_available_tag`}
   \cgalParamNEnd
 \cgalNamedParamsEnd
