@@ -21,6 +21,7 @@
 // shares the parent's pages, so the extra is what the run itself allocated and touched).
 #include "deformation_task.h"
 #include "policy_names.h"
+#include "viewer_files.h"
 
 #include <CGAL/Laplacian_deformation.h>
 #include <CGAL/Laplacian_deformation/metrics.h>
@@ -213,25 +214,6 @@ double status_megabytes(const char* key)
   return 0;
 }
 
-bool write_ply(const fs::path& path, const Mesh& m, const std::vector<double>& distortion)
-{
-  std::ofstream out(path);
-  out << "ply\nformat ascii 1.0\nelement vertex " << num_vertices(m)
-      << "\nproperty float x\nproperty float y\nproperty float z\nproperty float distortion\nelement face "
-      << num_faces(m) << "\nproperty list uchar int vertex_indices\nend_header\n";
-  out << std::setprecision(9);
-  for(vertex_descriptor v : vertices(m))
-    out << m.point(v).x() << ' ' << m.point(v).y() << ' ' << m.point(v).z() << ' ' << distortion[v] << '\n';
-  for(auto f : faces(m))
-  {
-    out << 3;
-    for(vertex_descriptor v : CGAL::vertices_around_face(halfedge(f, m), m))
-      out << ' ' << std::size_t(v);
-    out << '\n';
-  }
-  return bool(out);
-}
-
 // runs `method` in a child process; the child writes the PLY of a default combination
 Record run_in_child(const Method& method, const Task& task, unsigned iterations, const fs::path& task_dir)
 {
@@ -272,7 +254,7 @@ Record run_in_child(const Method& method, const Task& task, unsigned iterations,
       {
         std::vector<double> field(num_vertices(m), 0.);
         LD::vertex_distortion_field(m, get(CGAL::vertex_point, task.mesh), CGAL::make_property_map(field));
-        if(!write_ply(task_dir / (method.panel + ".ply"), m, field))
+        if(!laplacian_deform::write_viewer_ply(task_dir / (method.panel + ".ply"), m, field))
           c.ok = 0, set_message(c, "cannot write " + (task_dir / (method.panel + ".ply")).string());
       }
     }
@@ -309,18 +291,6 @@ Record run_in_child(const Method& method, const Task& task, unsigned iterations,
                                        : std::string("the run reported nothing"));
   }
   return r;
-}
-
-std::string json_string(const std::string& s)
-{
-  std::string out = "\"";
-  for(char c : s)
-  {
-    if(c == '"' || c == '\\')
-      out += '\\';
-    out += c;
-  }
-  return out + "\"";
 }
 
 std::string fixed(double x, int digits)
@@ -488,9 +458,9 @@ int main(int argc, char** argv)
     fs::create_directories(task_dir, ec);
     {
       std::vector<double> zero(num_vertices(task.mesh), 0.);
-      write_ply(task_dir / "rest.ply", task.mesh, zero);
+      laplacian_deform::write_viewer_ply(task_dir / "rest.ply", task.mesh, zero);
       std::ofstream json(task_dir / "task.json");
-      json << "{\"task\": " << json_string(task.name) << ", \"title\": " << json_string(task.title)
+      json << "{\"task\": " << laplacian_deform::json_string(task.name) << ", \"title\": " << laplacian_deform::json_string(task.title)
            << ", \"field\": \"one_ring_rigidity_error\", \"panels\": [\"rest\", \"vertex\", \"edge\", \"cgal_arap\"]}\n";
     }
     const bool bend = task.bend_axis >= 0, twist = task.twist_axis >= 0, closed = CGAL::is_closed(task.mesh);

@@ -13,6 +13,8 @@
 // Exit status 0 on success, 1 when a mesh cannot be read or does not match the rest mesh, or a file
 // cannot be written, 2 for bad arguments. Never overwrites a mesh it reads (OUT_DIR holds new files).
 
+#include "viewer_files.h"
+
 #include <CGAL/Laplacian_deformation/IO/read_triangle_mesh.h>
 #include <CGAL/Laplacian_deformation/metrics.h>
 
@@ -34,44 +36,10 @@ namespace LD = CGAL::Laplacian_deformation;
 namespace fs = std::filesystem;
 typedef CGAL::Simple_cartesian<double> Kernel;
 typedef CGAL::Surface_mesh<Kernel::Point_3> Mesh;
+using laplacian_deform::json_string;
+using laplacian_deform::write_viewer_ply;
 
 namespace {
-
-std::string json_string(const std::string& s)
-{
-  std::ostringstream out;
-  out << '"';
-  for(unsigned char c : s)
-  {
-    if(c == '"' || c == '\\')
-      out << '\\' << c;
-    else if(c < 0x20)
-      out << "\\u" << std::hex << std::setw(4) << std::setfill('0') << int(c) << std::dec;
-    else
-      out << c;
-  }
-  return out.str() + '"';
-}
-
-// the viewer's PLY: positions and the distortion per vertex, triangles by vertex index
-bool write_ply(const fs::path& path, const Mesh& m, const std::vector<double>& field)
-{
-  std::ofstream out(path);
-  out << "ply\nformat ascii 1.0\nelement vertex " << num_vertices(m)
-      << "\nproperty float x\nproperty float y\nproperty float z\nproperty float distortion\nelement face "
-      << num_faces(m) << "\nproperty list uchar int vertex_indices\nend_header\n"
-      << std::setprecision(9);
-  for(auto v : vertices(m))
-    out << m.point(v).x() << ' ' << m.point(v).y() << ' ' << m.point(v).z() << ' ' << field[v] << '\n';
-  for(auto f : faces(m))
-  {
-    out << 3;
-    for(auto v : CGAL::vertices_around_face(halfedge(f, m), m))
-      out << ' ' << std::size_t(v);
-    out << '\n';
-  }
-  return bool(out.flush());
-}
 
 int usage(const std::string& error)
 {
@@ -132,7 +100,7 @@ int main(int argc, char** argv)
   fs::create_directories(out_dir, ec);
   if(ec)
     return std::cerr << "error: cannot create " << out_dir << ": " << ec.message() << "\n", 1;
-  if(!write_ply(out_dir / "rest.ply", rest, std::vector<double>(num_vertices(rest), 0.)))
+  if(!write_viewer_ply(out_dir / "rest.ply", rest, std::vector<double>(num_vertices(rest), 0.)))
     return std::cerr << "error: cannot write " << (out_dir / "rest.ply") << "\n", 1;
   std::string panel_list = "\"rest\"";
   for(std::size_t k = 0; k < panels.size(); ++k)
@@ -140,7 +108,7 @@ int main(int argc, char** argv)
     std::vector<double> field(num_vertices(rest), 0.);
     LD::vertex_distortion_field(meshes[k], get(CGAL::vertex_point, rest), CGAL::make_property_map(field));
     const fs::path ply = out_dir / (panels[k].first + ".ply");
-    if(!write_ply(ply, meshes[k], field))
+    if(!write_viewer_ply(ply, meshes[k], field))
       return std::cerr << "error: cannot write " << ply << "\n", 1;
     panel_list += ", " + json_string(panels[k].first);
   }

@@ -34,6 +34,16 @@ weights are passed unchanged.
 The map need not be a rotation, but the fit is to the cell, not to the
 Laplacian energy, so the energy is not guaranteed to decrease from one iteration to the next.
 
+<b>Optional batch method.</b> A policy may also provide
+<code>void transform_block(const Transform_cell* cells, std::size_t n, Eigen::Matrix3d* out) const</code>,
+which must set `out[i]` to what `transform(cells[i])` returns, for `i < n`. The deformer detects it at
+compile time and then passes the cells of its local step in groups (currently 32 cells per call,
+`n` smaller for the last group of a block of rows) instead of one at a time, so that the policy can
+fit several cells at once with vector instructions; without it, `transform()` is called per cell.
+The same thread-safety rules apply (calls on different groups run concurrently). All the
+package's policies except `Fixed_transform` have one, computed by vectorised kernels that give
+the results of their `transform()` (see \ref LapDefPerformance).
+
 \cgalRefines{DefaultConstructible}
 
 \cgalHasModelsBegin
@@ -75,6 +85,10 @@ public:
 
   /// returns `T_a` for the cell `cell` (rest and current edge vectors, fit weights).
   Eigen::Matrix3d transform(const CGAL::Laplacian_deformation::Transform_cell& cell) const;
+
+  /// optional: sets `out[i] = transform(cells[i])` for `i < n` (see <b>Optional batch method</b> above).
+  void transform_block(const CGAL::Laplacian_deformation::Transform_cell* cells, std::size_t n,
+                       Eigen::Matrix3d* out) const;
 
 /// @}
 };

@@ -5,6 +5,7 @@
 #ifndef CGAL_LAPLACIAN_DEFORMATION_ANCHORED_SCALED_ROTATION_TRANSFORM_H
 #define CGAL_LAPLACIAN_DEFORMATION_ANCHORED_SCALED_ROTATION_TRANSFORM_H
 
+#include <CGAL/Laplacian_deformation/internal/batched_transforms.h>
 #include <CGAL/Laplacian_deformation/internal/closest_rotation_3.h>
 
 #include <algorithm>
@@ -55,6 +56,14 @@ struct Anchored_scaled_rotation_transform
     for(int k = 0; k < 3; ++k)
       s[k] = internal::Scale_fit::clamp((num[k] + prior) / (den[k] + prior));
     return s.asDiagonal() * r;
+  }
+
+  /// computes `out[i] = transform(cells[i])` for `i < n`, several cells at a time with the
+  /// vectorised kernels of the batched local step (see \ref LapDefPerformance; the results are
+  /// those of `transform()`).
+  void transform_block(const Transform_cell* cells, std::size_t n, Eigen::Matrix3d* out) const
+  {
+    internal::batched::transform_cells<internal::batched::Stage::anchored_scaled_rotation>(*this, cells, n, out);
   }
 };
 

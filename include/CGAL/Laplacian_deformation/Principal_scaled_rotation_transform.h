@@ -5,6 +5,7 @@
 #ifndef CGAL_LAPLACIAN_DEFORMATION_PRINCIPAL_SCALED_ROTATION_TRANSFORM_H
 #define CGAL_LAPLACIAN_DEFORMATION_PRINCIPAL_SCALED_ROTATION_TRANSFORM_H
 
+#include <CGAL/Laplacian_deformation/internal/batched_transforms.h>
 #include <CGAL/Laplacian_deformation/internal/closest_rotation_3.h>
 
 #include <Eigen/Eigenvalues>
@@ -43,16 +44,32 @@ struct Principal_scaled_rotation_transform
   Eigen::Matrix3d transform(const Transform_cell& cell) const
   {
     const Eigen::Matrix3d r = internal::closest_rotation(cell.covariance());
+    const Eigen::Matrix3d u = r * rest_axes(cell);
+    Eigen::Vector3d s = internal::Scale_fit::along_axes(cell, r, u);
+    s[2] = std::sqrt(s[0] * s[1]);
+    return u * s.asDiagonal() * u.transpose() * r;
+  }
+
+  /// \cond SKIP_IN_MANUAL
+  // q = [q_1 q_2 q_3], the eigenvectors of the rest covariance by decreasing eigenvalue (the
+  // batched path takes them from here too, so that both see the same frame)
+  static Eigen::Matrix3d rest_axes(const Transform_cell& cell)
+  {
     Eigen::Matrix3d rest = Eigen::Matrix3d::Zero();
     for(std::size_t i = 0; i < cell.size(); ++i)
       rest.noalias() += cell.weight(i) * cell.rest(i) * cell.rest(i).transpose();
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(rest);
     // eigenvalues in increasing order: reverse so that the normal is the last axis
-    const Eigen::Matrix3d q = eigen.eigenvectors().rowwise().reverse();
-    const Eigen::Matrix3d u = r * q;
-    Eigen::Vector3d s = internal::Scale_fit::along_axes(cell, r, u);
-    s[2] = std::sqrt(s[0] * s[1]);
-    return u * s.asDiagonal() * u.transpose() * r;
+    return eigen.eigenvectors().rowwise().reverse();
+  }
+  /// \endcond
+
+  /// computes `out[i] = transform(cells[i])` for `i < n`, several cells at a time with the
+  /// vectorised kernels of the batched local step (see \ref LapDefPerformance; the results are
+  /// those of `transform()`).
+  void transform_block(const Transform_cell* cells, std::size_t n, Eigen::Matrix3d* out) const
+  {
+    internal::batched::transform_cells<internal::batched::Stage::principal_scaled_rotation>(*this, cells, n, out, &rest_axes);
   }
 };
 

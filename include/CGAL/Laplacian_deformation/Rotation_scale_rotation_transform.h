@@ -33,6 +33,14 @@ struct Rotation_scale_rotation_transform
       s.noalias() += cell.weight(i) * cell.current(i) * (sr * cell.rest(i)).transpose();
     return internal::closest_rotation(s) * sr;
   }
+
+  /// computes `out[i] = transform(cells[i])` for `i < n`, several cells at a time with the
+  /// vectorised kernels of the batched local step (see \ref LapDefPerformance; the results are
+  /// those of `transform()`).
+  void transform_block(const Transform_cell* cells, std::size_t n, Eigen::Matrix3d* out) const
+  {
+    internal::batched::transform_cells<internal::batched::Stage::scaled_rotation_then_covariance>(*this, cells, n, out);
+  }
 };
 
 } // namespace Laplacian_deformation

@@ -5,6 +5,7 @@
 #ifndef CGAL_LAPLACIAN_DEFORMATION_ROTATION_TRANSFORM_H
 #define CGAL_LAPLACIAN_DEFORMATION_ROTATION_TRANSFORM_H
 
+#include <CGAL/Laplacian_deformation/internal/batched_transforms.h>
 #include <CGAL/Laplacian_deformation/internal/closest_rotation_3.h>
 
 namespace CGAL {
@@ -30,6 +31,14 @@ struct Rotation_transform
   Eigen::Matrix3d transform(const Transform_cell& cell) const
   {
     return internal::closest_rotation(cell.covariance());
+  }
+
+  /// computes `out[i] = transform(cells[i])` for `i < n`, several cells at a time with the
+  /// vectorised kernels of the batched local step (see \ref LapDefPerformance; the results are
+  /// those of `transform()`).
+  void transform_block(const Transform_cell* cells, std::size_t n, Eigen::Matrix3d* out) const
+  {
+    internal::batched::transform_cells<internal::batched::Stage::rotation>(*this, cells, n, out);
   }
 };
 

@@ -5,6 +5,7 @@
 #ifndef CGAL_LAPLACIAN_DEFORMATION_SCALED_ROTATION_TRANSFORM_H
 #define CGAL_LAPLACIAN_DEFORMATION_SCALED_ROTATION_TRANSFORM_H
 
+#include <CGAL/Laplacian_deformation/internal/batched_transforms.h>
 #include <CGAL/Laplacian_deformation/internal/closest_rotation_3.h>
 
 namespace CGAL {
@@ -40,6 +41,14 @@ struct Scaled_rotation_transform
   {
     const Eigen::Matrix3d r = internal::closest_rotation(cell.covariance());
     return internal::Scale_fit::along_world_axes(cell, r).asDiagonal() * r;
+  }
+
+  /// computes `out[i] = transform(cells[i])` for `i < n`, several cells at a time with the
+  /// vectorised kernels of the batched local step (see \ref LapDefPerformance; the results are
+  /// those of `transform()`).
+  void transform_block(const Transform_cell* cells, std::size_t n, Eigen::Matrix3d* out) const
+  {
+    internal::batched::transform_cells<internal::batched::Stage::scaled_rotation>(*this, cells, n, out);
   }
 };
 

@@ -9,6 +9,7 @@
 #include <CGAL/Laplacian_deformation/Least_squares_solver.h>
 #include <CGAL/Laplacian_deformation/Node_cell.h>
 #include <CGAL/Laplacian_deformation/internal/Laplacian_stencils.h>
+#include <CGAL/Laplacian_deformation/internal/batched_transforms.h>
 #include <CGAL/Laplacian_deformation/internal/closest_rotation_3.h>
 #include <CGAL/Laplacian_deformation/internal/parallel.h>
 #include <CGAL/Laplacian_deformation/internal/Policy_variant.h>
@@ -504,36 +505,50 @@ private:
     });
     const std::vector<Eigen::Vector3d>& rest = *m_rest_nodes;
     for_each_block(m_fit_nodes.size(), [&](std::size_t begin, std::size_t end) {
-      std::vector<Eigen::Vector3d> rest_edges(m_max_degree), current_edges(m_max_degree);
-      std::vector<double> fit_weights(m_max_degree);
+      // the cells are fitted `group` at a time: by the policy's transform_block() (vectorised)
+      // where it has one, by transform(cell) otherwise (group 1)
+      const std::size_t group = Has_transform_block<Policy>::value ? 32 : 1;
+      std::vector<Eigen::Vector3d> rest_edges(m_max_degree * group), current_edges(m_max_degree * group);
+      std::vector<double> fit_weights(m_max_degree * group);
+      std::vector<Transform_cell> cells;
+      cells.reserve(group);
+      std::vector<Eigen::Matrix3d> fitted(group);
       for(std::size_t r = begin; r < end; ++r)
       {
         const std::size_t a = m_fit_nodes[r], first = s.neighbor_start[a], degree = s.neighbor_start[a + 1] - first;
         const Eigen::Vector3d &xa = m_node_positions[a], &ra = rest[a];
+        Eigen::Vector3d *re = rest_edges.data() + cells.size() * m_max_degree,
+                        *ce = current_edges.data() + cells.size() * m_max_degree;
+        double* fw = fit_weights.data() + cells.size() * m_max_degree;
         for(std::size_t i = 0; i < degree; ++i)
         {
           const std::size_t b = s.neighbor[first + i];
-          rest_edges[i] = ra - rest[b];
-          current_edges[i] = xa - m_node_positions[b];
-          fit_weights[i] = (std::max)(s.weight[first + i], 0.);
+          re[i] = ra - rest[b];
+          ce[i] = xa - m_node_positions[b];
+          fw[i] = (std::max)(s.weight[first + i], 0.);
         }
         // the fits are homogeneous in the edges: scale the cell by a power of two (exact) that
         // brings its largest coordinate near 1, away from overflow and underflow at any model size
         double largest = 0;
         for(std::size_t i = 0; i < degree; ++i)
-          largest = (std::max)({largest, rest_edges[i].cwiseAbs().maxCoeff(), current_edges[i].cwiseAbs().maxCoeff()});
+          largest = (std::max)({largest, re[i].cwiseAbs().maxCoeff(), ce[i].cwiseAbs().maxCoeff()});
         const double unit = normalizing_power_of_two(largest);
         for(std::size_t i = 0; i < degree; ++i)
         {
-          rest_edges[i] *= unit;
-          current_edges[i] *= unit;
+          re[i] *= unit;
+          ce[i] *= unit;
         }
-        const Transform_cell cell(rest_edges.data(), current_edges.data(), fit_weights.data(), degree);
-        const Eigen::Matrix3d t = policy.transform(cell);
-        if(t.allFinite())
-          m_transforms[r] = t;
-        else
-          ++failed;
+        cells.emplace_back(re, ce, fw, degree);
+        if(cells.size() < group && r + 1 < end)
+          continue;
+        transform_cells(policy, cells.data(), cells.size(), fitted.data());
+        const std::size_t r0 = r + 1 - cells.size();
+        for(std::size_t j = 0; j < cells.size(); ++j)
+          if(fitted[j].allFinite())
+            m_transforms[r0 + j] = fitted[j];
+          else
+            ++failed;
+        cells.clear();
       }
     });
     return failed;

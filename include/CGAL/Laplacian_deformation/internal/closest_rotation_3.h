@@ -8,12 +8,13 @@
 #include <CGAL/Laplacian_deformation/Node_cell.h>
 
 #include <Eigen/Core>
-#include <Eigen/Geometry>
-#include <Eigen/LU>
+#include <Eigen/Geometry>   // cross()
+#include <Eigen/LU>         // determinant()
 #include <Eigen/SVD>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace CGAL {
@@ -38,8 +39,11 @@ inline double normalizing_power_of_two(double largest)
 // R = U V^T from the SVD S = U Sigma V^T, with the sign of the column of U of the smallest
 // singular value flipped when det(U V^T) < 0. Eigen's JacobiSVD sorts singular values in
 // decreasing order, so that column is the last one. The reference (and fallback) computation.
+// A non-finite `s` gives NaN (JacobiSVD leaves U and V uninitialised on such input).
 inline Eigen::Matrix3d closest_rotation_svd(const Eigen::Matrix3d& s)
 {
+  if(!s.allFinite())
+    return Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(s, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d u = svd.matrixU();
   const Eigen::Matrix3d& v = svd.matrixV();
