@@ -117,7 +117,7 @@ struct Recording_supernodal_llt : public LD::Cholmod_supernodal_llt
   Recording_supernodal_llt()
   {
     // experiments: LD_BENCH_ORDERING=amd|metis|nesdis forces CHOLMOD's fill-reducing ordering
-    if(const char* o = std::getenv("LD_BENCH_ORDERING"))
+    if(const char* o = std::getenv("LD_BENCH_ORDERING"); o != nullptr && *o != 0)
     {
       const std::string ordering = o;
       cholmod().nmethods = 1;
