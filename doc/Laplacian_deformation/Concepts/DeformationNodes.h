@@ -128,7 +128,7 @@ public:
   template <class F>
   void fan_triangles(node_descriptor a, F&& f) const;
 
-  /// <b>Optional.</b> Calls `f(a)` (`a` a `node_descriptor`) for each node whose combination
+  /// (optional) calls `f(a)` (`a` a `node_descriptor`) for each node whose combination
   /// involves the mesh vertex `v` (each once). With it, `CGAL::Laplacian_deformation::Mesh_deformer`
   /// builds the stencils, weights and operator rows of the nodes near the region of interest only
   /// (the nodes of its vertices, their neighbours, and the neighbours' neighbours for their
