@@ -19,13 +19,10 @@
 // child reports VmHWM (the resident-set high-water mark of /proc/self/status) at the end of the
 // run, and the extra memory over its resident set at the start of the run (after fork the child
 // shares the parent's pages, so the extra is what the run itself allocated and touched).
-#include "deformation_task.h"
-#include "policy_names.h"
+// The methods of the comparison are in harness_methods.h, the tasks in deformation_task.h.
+#include "harness_methods.h"
+#include "tool_files.h"
 #include "viewer_files.h"
-
-#include <CGAL/Laplacian_deformation.h>
-#include <CGAL/Laplacian_deformation/metrics.h>
-#include <CGAL/Surface_mesh_deformation.h>
 
 #include <sys/types.h>
 #include <sys/wait.h>
@@ -37,172 +34,17 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace LD = CGAL::Laplacian_deformation;
 namespace fs = std::filesystem;
-namespace policy_names = Laplacian_deformation_policy_names;
-using namespace Laplacian_deformation_benchmark;
+namespace tools = Laplacian_deformation_tools;
+using namespace Laplacian_deformation_benchmark;   // the tasks and the methods (harness_methods.h)
 
 namespace {
-
-typedef std::chrono::steady_clock Clock;
-
-// what a child process sends back (trivially copyable)
-struct Record
-{
-  int ok = 0;
-  char message[240] = {0};
-  unsigned iterations = 0;
-  double preprocess_seconds = 0;
-  double iteration_seconds = 0, local_step_seconds = 0, right_hand_side_seconds = 0, solve_seconds = 0;  // per iteration
-  double peak_rss_mb = 0, extra_rss_mb = 0;
-  LD::Deformation_quality quality;
-  Task_metrics metrics;
-};
-
-// called after every iteration with its number (from 1) and the deformed mesh
-typedef std::function<void(unsigned, const Mesh&)> Step;
-
-struct Method
-{
-  std::string method, representation, weights, transform, start, panel;   // panel: PLY name of a default combination
-  typedef std::function<bool(const Task&, unsigned, Mesh&, Record&, const Step&)> Runner;
-  Runner run;
-};
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-void set_message(Record& r, const std::string& m) { std::snprintf(r.message, sizeof(r.message), "%s", m.c_str()); }
-
-// the weights and the transform are run-time policies named in policy_names.h (the tools' one
-// catalogue): one Mesh_deformer per representation
-template <class Representation>
-bool run_ours(const Task& task, unsigned iterations, const std::string& weights, const std::string& transform,
-              LD::Deformation_start start, double rigidity, Mesh& m, Record& r, const Step& step)
-{
-  m = task.mesh;
-  LD::Mesh_deformer<Mesh, Representation, LD::Any_weights, LD::Any_transform> d(
-      m, policy_names::weight_policy(weights), policy_names::transform_policy(transform));
-  d.set_start(start);
-  d.set_rigidity_weight(rigidity);
-  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
-  d.insert_control_vertices(task.handle.begin(), task.handle.end());
-  const Clock::time_point t0 = Clock::now();
-  if(!d.preprocess())
-    return set_message(r, d.last_result().message), false;
-  r.preprocess_seconds = seconds_since(t0);
-  for(std::size_t i = 0; i < task.handle.size(); ++i)
-    d.set_target_position(task.handle[i], task.targets[i]);
-  for(unsigned it = 0; it < iterations; ++it)
-  {
-    const LD::Deformation_result result = d.deform(1, 0.);
-    if(!result)
-      return set_message(r, result.message), false;
-    r.iteration_seconds += result.seconds;
-    r.local_step_seconds += result.local_step_seconds;
-    r.right_hand_side_seconds += result.right_hand_side_seconds;
-    r.solve_seconds += result.solve_seconds;
-    ++r.iterations;
-    if(step)
-      step(r.iterations, m);
-  }
-  return true;
-}
-
-template <CGAL::Deformation_algorithm_tag Tag>
-bool run_cgal(const Task& task, unsigned iterations, Mesh& m, Record& r, const Step& step)
-{
-  m = task.mesh;
-  CGAL::Surface_mesh_deformation<Mesh, CGAL::Default, CGAL::Default, Tag> d(m);
-  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
-  for(vertex_descriptor v : task.handle)
-    d.insert_control_vertex(v);
-  const Clock::time_point t0 = Clock::now();
-  if(!d.preprocess())
-    return set_message(r, "CGAL's preprocess() failed"), false;
-  r.preprocess_seconds = seconds_since(t0);
-  for(std::size_t i = 0; i < task.handle.size(); ++i)
-    d.set_target_position(task.handle[i], task.targets[i]);
-  for(unsigned it = 0; it < iterations; ++it)
-  {
-    const Clock::time_point t1 = Clock::now();
-    d.deform(1, 0.);
-    r.iteration_seconds += seconds_since(t1);
-    ++r.iterations;
-    if(step)
-      step(r.iterations, m);
-  }
-  return true;
-}
-
-// the ours(representation, weights, transform, start, rigidity) runner (names of policy_names.h)
-Method::Runner ours(const std::string& representation, const std::string& weights, const std::string& transform,
-                    LD::Deformation_start start, double rigidity)
-{
-  if(!policy_names::find(policy_names::weight_policies(), weights) ||
-     !policy_names::find(policy_names::transform_policies(), transform))
-    throw std::logic_error("compare_deformations: no policy named " + weights + " or " + transform);
-  const bool vertex = policy_names::representation(representation) == policy_names::Representation::VERTEX;
-  return [=](const Task& task, unsigned iterations, Mesh& m, Record& r, const Step& step) {
-    return vertex ? run_ours<LD::Vertex_based_representation>(task, iterations, weights, transform, start, rigidity, m, r, step)
-                  : run_ours<LD::Edge_based_representation>(task, iterations, weights, transform, start, rigidity, m, r, step);
-  };
-}
-
-// one combination with both starts (the start and the policies are chosen at run time);
-// `panel` names the PLY of the identity start (the library's default start), if any
-void add_starts(std::vector<Method>& methods, const std::string& representation, const std::string& weights,
-                const std::string& transform, const std::string& panel)
-{
-  const std::pair<LD::Deformation_start, const char*> starts[] = {{LD::IDENTITY_START, "identity"},
-                                                                  {LD::ROTATION_START, "rotation"}};
-  for(const auto& s : starts)
-    methods.push_back({"ours", representation, weights, transform, s.second,
-                       s.first == LD::IDENTITY_START ? panel : std::string(),
-                       ours(representation, weights, transform, s.first, 0.)});
-}
-
-// the recommended configurations for large rotations: rotation start and spoke rigidity rows of
-// weight 0.3 (Mesh_deformer::set_rigidity_weight), named TRANSFORM+rigid
-void add_rigid(std::vector<Method>& methods, const std::string& representation, const std::string& weights,
-               const std::string& transform)
-{
-  methods.push_back({"ours", representation, weights, transform + "+rigid", "rotation", std::string(),
-                     ours(representation, weights, transform, LD::ROTATION_START, 0.3)});
-}
-
-void add_transforms(std::vector<Method>& methods, const std::string& representation, const std::string& weights)
-{
-  // the panels: cotangent weights, S*R1, identity start (the library's defaults)
-  const std::string panel = weights == "cotangent" ? representation : std::string();
-  // in the order of the result files (every name of policy_names::transform_policies())
-  for(const char* transform : {"fixed", "rotation", "similarity", "sr1", "principal", "rsr", "anchored"})
-    add_starts(methods, representation, weights, transform, std::string(transform) == "sr1" ? panel : std::string());
-  if(weights == "cotangent")
-  {
-    add_rigid(methods, representation, weights, "rotation");
-    add_rigid(methods, representation, weights, "anchored");
-  }
-}
-
-std::vector<Method> all_methods()
-{
-  std::vector<Method> methods;
-  for(const char* representation : {"vertex", "edge"})
-    for(const char* weights : {"uniform", "cotangent"})
-      add_transforms(methods, representation, weights);
-  methods.push_back({"cgal", "vertex", "cotangent", "ORIGINAL_ARAP", "", "cgal_arap", run_cgal<CGAL::ORIGINAL_ARAP>});
-  methods.push_back({"cgal", "vertex", "cotangent", "SPOKES_AND_RIMS", "", "", run_cgal<CGAL::SPOKES_AND_RIMS>});
-  methods.push_back({"cgal", "vertex", "cotangent", "SRE_ARAP", "", "", run_cgal<CGAL::SRE_ARAP>});
-  return methods;
-}
 
 double status_megabytes(const char* key)
 {
@@ -329,7 +171,7 @@ std::string task_metric_cells(const Task_metrics& t)
 // --convergence: the task metrics after every iteration of the cotangent combinations and CGAL's
 int run_convergence(unsigned iterations, const fs::path& out_dir, const std::vector<Task>& tasks)
 {
-  std::ofstream csv(out_dir / "convergence.csv");
+  std::ostringstream csv;   // written atomically at the end (tool_files.h)
   csv << "task,method,representation,weights,transform,start,iteration,status," << task_metric_columns << '\n';
   for(const Task& task : tasks)
     for(const Method& method : all_methods())
@@ -351,9 +193,9 @@ int run_convergence(unsigned iterations, const fs::path& out_dir, const std::vec
         std::cerr << "  failed: " << r.message << std::endl;
       }
     }
-  csv.close();
-  if(!csv)
-    return std::cerr << "error: cannot write " << (out_dir / "convergence.csv").string() << std::endl, EXIT_FAILURE;
+  std::string error;
+  if(!tools::write_text_atomically(out_dir / "convergence.csv", csv.str(), error))
+    return std::cerr << "error: " << error << std::endl, EXIT_FAILURE;
   std::cout << "wrote " << (out_dir / "convergence.csv").string() << std::endl;
   return EXIT_SUCCESS;
 }
@@ -378,7 +220,7 @@ int usage(std::ostream& out, int code)
 
 int main(int argc, char** argv)
 {
-  unsigned iterations = 10, convergence = 0;
+  unsigned iterations = defaults::comparison_iterations, convergence = 0;
   std::string data_dir = LAPLACIAN_DEFORMATION_DATA_DIR;
   std::vector<std::string> positional;
   for(int i = 1; i < argc; ++i)
@@ -427,8 +269,7 @@ int main(int argc, char** argv)
     return run_convergence(convergence, out_dir, tasks);
 
   const std::vector<Method> methods = all_methods();
-  std::ofstream csv(out_dir / "results.csv");
-  std::ofstream md(out_dir / "results.md");
+  std::ostringstream csv, md;   // written atomically at the end (tool_files.h)
   csv << "task,vertices,roi,handle,method,representation,weights,transform,start,status,iterations,"
          "preprocess_s,iteration_s,local_step_s,right_hand_side_s,solve_s,peak_rss_mb,extra_rss_mb,"
          "vertex_laplacian_error,edge_laplacian_error,edge_length_mean,edge_length_max,"
@@ -458,10 +299,12 @@ int main(int argc, char** argv)
     fs::create_directories(task_dir, ec);
     {
       std::vector<double> zero(num_vertices(task.mesh), 0.);
-      laplacian_deform::write_viewer_ply(task_dir / "rest.ply", task.mesh, zero);
-      std::ofstream json(task_dir / "task.json");
-      json << "{\"task\": " << laplacian_deform::json_string(task.name) << ", \"title\": " << laplacian_deform::json_string(task.title)
-           << ", \"field\": \"one_ring_rigidity_error\", \"panels\": [\"rest\", \"vertex\", \"edge\", \"cgal_arap\"]}\n";
+      std::string error;
+      if(!laplacian_deform::write_viewer_ply(task_dir / "rest.ply", task.mesh, zero) ||
+         !tools::write_text_atomically(task_dir / "task.json",
+                                       laplacian_deform::task_json(task.name, task.title, {"rest", "vertex", "edge", "cgal_arap"}),
+                                       error))
+        std::cerr << "error: cannot write the figure files of " << task_dir.string() << std::endl;
     }
     const bool bend = task.bend_axis >= 0, twist = task.twist_axis >= 0, closed = CGAL::is_closed(task.mesh);
     md << "\n## " << task.title << " (`" << task.name << "`)\n\n"
@@ -521,10 +364,10 @@ int main(int argc, char** argv)
       md << "\n";
     }
   }
-  csv.close();
-  md.close();
-  if(!csv || !md)
-    return std::cerr << "error: cannot write the results into " << out_dir << std::endl, EXIT_FAILURE;
+  std::string error;
+  if(!tools::write_text_atomically(out_dir / "results.csv", csv.str(), error) ||
+     !tools::write_text_atomically(out_dir / "results.md", md.str(), error))
+    return std::cerr << "error: cannot write the results into " << out_dir << ": " << error << std::endl, EXIT_FAILURE;
   std::cout << "wrote " << (out_dir / "results.csv").string() << " and " << (out_dir / "results.md").string() << std::endl;
   return EXIT_SUCCESS;
 }

@@ -185,7 +185,7 @@ int run_tool(const std::vector<std::string>& args, std::ostream& out, std::ostre
   std::vector<fs::path> outputs;
   if(o.comparing())
   {
-    output_dir = o.output_dir.empty() ? fs::path("laplacian_deform_output") : fs::path(o.output_dir);
+    output_dir = o.output_dir.empty() ? fs::path(defaults::output_dir()) : fs::path(o.output_dir);
     std::error_code ec;
     if(fs::exists(output_dir, ec) && !fs::is_directory(output_dir, ec))
       return fail(err, EXIT_ERROR, "the output folder " + quoted(output_dir) + " is a file");

@@ -37,6 +37,7 @@ namespace fs = std::filesystem;
 typedef CGAL::Simple_cartesian<double> Kernel;
 typedef CGAL::Surface_mesh<Kernel::Point_3> Mesh;
 using laplacian_deform::json_string;
+using laplacian_deform::task_json;
 using laplacian_deform::write_viewer_ply;
 
 namespace {
@@ -102,7 +103,7 @@ int main(int argc, char** argv)
     return std::cerr << "error: cannot create " << out_dir << ": " << ec.message() << "\n", 1;
   if(!write_viewer_ply(out_dir / "rest.ply", rest, std::vector<double>(num_vertices(rest), 0.)))
     return std::cerr << "error: cannot write " << (out_dir / "rest.ply") << "\n", 1;
-  std::string panel_list = "\"rest\"";
+  std::vector<std::string> panel_list = {"rest"};
   for(std::size_t k = 0; k < panels.size(); ++k)
   {
     std::vector<double> field(num_vertices(rest), 0.);
@@ -110,13 +111,10 @@ int main(int argc, char** argv)
     const fs::path ply = out_dir / (panels[k].first + ".ply");
     if(!write_viewer_ply(ply, meshes[k], field))
       return std::cerr << "error: cannot write " << ply << "\n", 1;
-    panel_list += ", " + json_string(panels[k].first);
+    panel_list.push_back(panels[k].first);
   }
-  std::ofstream json(out_dir / "task.json");
-  json << "{\"task\": " << json_string(task) << ", \"title\": " << json_string(title)
-       << ", \"field\": \"one_ring_rigidity_error\", \"panels\": [" << panel_list << "]}\n";
-  if(!json.flush())
-    return std::cerr << "error: cannot write " << (out_dir / "task.json") << "\n", 1;
+  if(!Laplacian_deformation_tools::write_text_atomically(out_dir / "task.json", task_json(task, title, panel_list), error))
+    return std::cerr << "error: " << error << "\n", 1;
   std::cout << "wrote       " << out_dir.string() << "/{task.json,rest.ply";
   for(const auto& p : panels)
     std::cout << ',' << p.first << ".ply";

@@ -6,6 +6,11 @@
 #include "laplacian_deform_cli.h"
 
 #include "policy_names.h"
+#include "tool_mesh_io.h"
+#include "tool_regions.h"
+// the editor server's reader and k-ring (deformation_server/session.h, requests.h), to check that
+// the tools share them
+#include "deformation_server/session.h"
 
 #include <CGAL/Laplacian_deformation/Mesh_deformer.h>
 #include <CGAL/Laplacian_deformation/Vertex_based_representation.h>
@@ -239,6 +244,45 @@ TEST(LaplacianDeformCli, RegionsAroundHandles)
   EXPECT_FALSE(r2[centre + 2 + 14]);
 }
 
+// The tools' shared layer: the command line (cli_task.h) and the editor's server (session.h,
+// requests.h) grow the same regions and read meshes the same way, through tool_regions.h and
+// tool_mesh_io.h (the library's checked reader)
+TEST(ToolLayerCliAndServer, GrowTheSameRegions)
+{
+  namespace tools = Laplacian_deformation_tools;
+  namespace server = Laplacian_deformation_server;
+  const cli::Mesh mesh = to_mesh<cli::Mesh>(grid_soup(6, 6));   // 7 x 7 vertices, see above
+  const std::size_t centre = 3 * 7 + 3;
+  struct Row { std::vector<std::size_t> sources; int rings; std::size_t in_rings; double radius; std::size_t in_radius; };
+  const Row table[] = {
+      {{centre}, 0, 1, 0.5, 1},
+      {{centre}, 1, 7, 1.01, 5},
+      {{centre}, 2, 19, 1.5, 7},           // a hexagonal ring has 6 k vertices
+      {{centre}, 100, 49, 2., 13},         // and at distance 2: the axes' (+-2, 0), (1, -1), (-1, 1)
+      {{0, 48}, 1, 8, 1., 6},              // the corners of the diagonals: 3 neighbours, 2 at distance 1
+      {{0, 0, 48, 0}, 1, 8, 1., 6}};       // a source given twice counts once
+  for(const Row& row : table)
+  {
+    std::vector<cli::vertex_descriptor> seeds;
+    for(std::size_t v : row.sources)
+      seeds.push_back(cli::vertex_descriptor(cli::Mesh::size_type(v)));
+    const std::vector<cli::vertex_descriptor> grown = server::internal::grow(mesh, seeds, row.rings);
+    const std::vector<bool> in_cli = cli::k_ring_region(mesh, row.sources, std::size_t(row.rings));
+    EXPECT_EQ(grown.size(), row.in_rings) << row.rings;
+    EXPECT_EQ(std::size_t(std::count(in_cli.begin(), in_cli.end(), true)), row.in_rings) << row.rings;
+    EXPECT_EQ(tools::region_mask(num_vertices(mesh), grown), in_cli) << row.rings;
+    EXPECT_EQ(grown, tools::k_ring_vertices(mesh, seeds, std::size_t(row.rings)));
+    EXPECT_EQ(grown.front(), seeds.front());   // breadth-first: the sources first
+    std::vector<double> distance;
+    const std::vector<cli::vertex_descriptor> near = tools::geodesic_vertices(mesh, seeds, row.radius, &distance);
+    const std::vector<bool> in_radius = cli::radius_region(mesh, row.sources, row.radius);
+    EXPECT_EQ(near.size(), row.in_radius) << row.radius;
+    EXPECT_EQ(tools::region_mask(num_vertices(mesh), near), in_radius) << row.radius;
+    for(std::size_t i = 1; i < near.size(); ++i)   // in order of distance
+      EXPECT_LE(distance[std::size_t(near[i - 1])], distance[std::size_t(near[i])]);
+  }
+}
+
 TEST(LaplacianDeformCli, HandleMotionRotatesAboutTheCentreThenTranslates)
 {
   cli::Options o;
@@ -283,6 +327,59 @@ std::string shell_quote(const std::string& s)
   for(char c : s)
     q += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return q + "'";
+}
+
+TEST(ToolLayerCliAndServer, ReadMeshesTheSameWay)
+{
+  namespace server = Laplacian_deformation_server;
+  const fs::path dir = fs::path(::testing::TempDir()) / "tool_layer_meshes";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  struct Options_stub { std::string mesh, data_dir; std::size_t max_vertices = 1000000; } options;   // load_mesh's
+  options.data_dir = dir.string();
+  struct Row { const char* name; std::string text; const char* reason; };   // reason null: read
+  const Row table[] = {
+      {"tetra.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n", nullptr},
+      {"tetra.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n", nullptr},
+      {"missing.off", "", "no such file"},
+      {"broken.off", "OFF\n3 1 0\n0 0 0\n1 0\n", "not a valid off file"},
+      // three triangles on one edge: refused by the library's checked reader
+      {"fin.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n",
+       "the faces do not form a manifold, consistently oriented surface"},
+      {"nan.off", "OFF\n4 4 0\n0 0 0\n1 nan 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n",
+       "line 4: the coordinate 'nan' is not a finite number"}};
+  for(const Row& row : table)
+  {
+    if(std::string(row.name) != "missing.off")
+      write_file(dir / row.name, row.text);
+    cli::Mesh from_cli;
+    std::size_t triangulated = 0;
+    std::string error, stem;
+    const bool cli_read = cli::read_mesh(dir / row.name, false, from_cli, triangulated, error);
+    std::string server_error;
+    cli::Mesh from_server;
+    try { from_server = server::load_mesh(options, row.name, stem); }
+    catch(const server::Request_error& e) { server_error = e.message; }
+    if(row.reason == nullptr)
+    {
+      ASSERT_TRUE(cli_read) << error;
+      ASSERT_TRUE(server_error.empty()) << server_error;
+      ASSERT_EQ(num_vertices(from_cli), 4u) << row.name;
+      ASSERT_EQ(num_vertices(from_server), 4u) << row.name;
+      EXPECT_EQ(num_faces(from_cli), num_faces(from_server)) << row.name;
+      for(cli::vertex_descriptor v : vertices(from_cli))
+        EXPECT_EQ(from_cli.point(v), from_server.point(v)) << row.name;
+      continue;
+    }
+    ASSERT_FALSE(cli_read) << row.name;
+    ASSERT_FALSE(server_error.empty()) << row.name;
+    const std::string cli_prefix = std::string(row.reason) == "no such file" ? "cannot open " : "cannot read a mesh from ";
+    EXPECT_EQ(error.rfind(cli_prefix + "'" + (dir / row.name).string() + "': " + row.reason, 0), 0u) << error;
+    EXPECT_EQ(server_error.rfind(std::string("cannot read a mesh from ") + row.name + ": " + row.reason, 0), 0u)
+        << server_error;
+    // the same reason after the file's name
+    EXPECT_EQ(error.substr(error.find("': ") + 3), server_error.substr(server_error.find(": ") + 2)) << row.name;
+  }
 }
 
 class LaplacianDeformTool : public ::testing::Test
@@ -518,6 +615,10 @@ TEST_F(LaplacianDeformTool, BadUseIsRefusedAndWritesNothing)
   // unreadable mesh
   write_file(dir / "broken.off", "OFF\n3 1 0\n0 0 0\n1 0\n");
   expect_refused({"broken.off", sel, def, "-o", "out.off"}, 1, "cannot read a mesh from 'broken.off': not a valid off");
+  // a non-manifold mesh (three triangles on one edge): the library's checked reader says why
+  write_file(dir / "fin.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n");
+  expect_refused({"fin.off", "--handle", "0", "--roi-rings", "1", "--translate", "0,0,1", "-o", "out.off"}, 1,
+                 "cannot read a mesh from 'fin.off': the faces do not form a manifold, consistently oriented surface");
   write_file(dir / "mesh.xyz", "0 0 0\n");
   expect_refused({"mesh.xyz", sel, def, "-o", "out.off"}, 1,
                  "cannot read a mesh from 'mesh.xyz': unknown extension 'xyz'");

@@ -17,6 +17,7 @@
 #include <CGAL/Laplacian_deformation/Any_transform.h>
 
 #include "policy_names.h"
+#include "tool_defaults.h"
 
 #include <Eigen/Geometry>
 
@@ -36,10 +37,14 @@ typedef boost::graph_traits<Mesh>::vertex_descriptor vertex_descriptor;
 /// The policies a session deforms with.
 struct Policy
 {
-  std::string representation = "edge";      ///< "edge" or "vertex"
-  std::string weights = "cotangent";        ///< a name of policy_names::weight_policies()
-  std::string transform = "scaled_rotation";///< a name of policy_names::transform_policies() ("scaled_rotation": S*R1)
-  std::string start = "identity";           ///< "identity" or "rotation" (Mesh_deformer::set_start)
+  /// "edge" or "vertex"
+  std::string representation = Laplacian_deformation_tool_defaults::representation();
+  /// a name of policy_names::weight_policies()
+  std::string weights = Laplacian_deformation_tool_defaults::weights();
+  /// a name of policy_names::transform_policies() (S*R1 under the editor's name, "scaled_rotation")
+  std::string transform = Laplacian_deformation_tool_defaults::editor_transform();
+  /// "identity" or "rotation" (Mesh_deformer::set_start)
+  std::string start = Laplacian_deformation_tool_defaults::start();
 };
 
 class Deformer_interface
@@ -102,7 +107,7 @@ struct Drag
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
   double angle = 0;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
-  unsigned int iterations = 4;
+  unsigned int iterations = Laplacian_deformation_tool_defaults::iterations;
 
   /// the 4x4 affine matrix (Botsch08 .def).
   Eigen::Matrix4d matrix() const

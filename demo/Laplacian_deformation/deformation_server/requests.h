@@ -3,12 +3,15 @@
 // Author(s): Laplacian_deformation team
 //
 // laplacian_deform --serve, requests and replies: the reply type, the checks of a request's JSON
-// members (every refusal names the member), file names, the generated default mesh, k-rings, and
-// the encodings of positions (JSON arrays, or the binary frame of the drag replies).
+// members (every refusal names the member), file names, the generated default mesh, k-rings (the
+// tools' tool_regions.h), and the encodings of positions (JSON arrays, or the binary frame of the
+// drag replies).
 #ifndef LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_REQUESTS_H
 #define LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_REQUESTS_H
 
 #include "deformation_server/deformer.h"
+#include "tool_mesh_io.h"
+#include "tool_regions.h"
 
 #include <nlohmann/json.hpp>
 
@@ -167,10 +170,11 @@ inline std::string lower_extension(const fs::path& p)
   return e;
 }
 
+// a plain file name with an extension of the tools' mesh reader (tool_mesh_io.h)
 inline bool is_mesh_file_name(const std::string& name)
 {
-  const std::string e = lower_extension(name);
-  return is_plain_name(name, true) && (e == ".off" || e == ".obj" || e == ".ply" || e == ".stl");
+  return is_plain_name(name, true) &&
+         Laplacian_deformation_tools::is_mesh_extension(Laplacian_deformation_tools::extension_of(fs::path(name)));
 }
 
 // a wavy square, 41 x 41 vertices: the default mesh when the cactus is absent
@@ -195,32 +199,11 @@ inline Mesh bumpy_plane(int n = 40)
   return m;
 }
 
-// vertices within k rings of `seeds`
+// vertices within k rings of `seeds`, in breadth-first order (the tools' k-ring of tool_regions.h,
+// as laplacian_deform --roi-rings)
 inline std::vector<vertex_descriptor> grow(const Mesh& m, const std::vector<vertex_descriptor>& seeds, int k)
 {
-  std::vector<int> ring(num_vertices(m), -1);
-  std::vector<vertex_descriptor> out, front;
-  for(vertex_descriptor v : seeds)
-    if(ring[v] < 0)
-    {
-      ring[v] = 0;
-      out.push_back(v);
-      front.push_back(v);
-    }
-  for(int r = 1; r <= k && !front.empty(); ++r)
-  {
-    std::vector<vertex_descriptor> next;
-    for(vertex_descriptor v : front)
-      for(vertex_descriptor w : CGAL::vertices_around_target(m.halfedge(v), m))
-        if(ring[w] < 0)
-        {
-          ring[w] = r;
-          out.push_back(w);
-          next.push_back(w);
-        }
-    front.swap(next);
-  }
-  return out;
+  return Laplacian_deformation_tools::k_ring_vertices(m, seeds, std::size_t(std::max(k, 0)));
 }
 
 inline json positions_json(const Mesh& m)

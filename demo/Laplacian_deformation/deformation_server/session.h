@@ -3,12 +3,15 @@
 // Author(s): Laplacian_deformation team
 //
 // laplacian_deform --serve, one browser session: its mesh, selection, deformer and last drag, and
-// what is done to it (the caller holds the session's lock): open a mesh, rebuild and preprocess the
-// deformer, apply a drag, write the mesh and the Botsch08 task as files.
+// what is done to it (the caller holds the session's lock): open a mesh (the tools' checked reader,
+// tool_mesh_io.h), rebuild and preprocess the deformer, apply a drag, write the mesh and the
+// Botsch08 task as files (atomically, tool_files.h).
 #ifndef LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_SESSION_H
 #define LAPLACIAN_DEFORMATION_DEMO_DEFORMATION_SERVER_SESSION_H
 
 #include "deformation_server/requests.h"
+#include "tool_files.h"
+#include "tool_mesh_io.h"
 
 #include <CGAL/boost/graph/IO/polygon_mesh_io.h>
 #include <CGAL/boost/graph/helpers.h>
@@ -76,8 +79,10 @@ Mesh load_mesh(const Options& options, const std::string& name, std::string& ste
       throw Request_error{400, "mesh must be \"default\" or a file name (.off, .obj, .ply, .stl) of the data folder, got \"" + name + "\""};
     file = fs::path(options.data_dir) / name;
   }
-  if(!fs::is_regular_file(file) || !CGAL::IO::read_polygon_mesh(file.string(), m) || is_empty(m))
-    throw Request_error{400, "cannot read a mesh from " + (name == "default" ? file.string() : name)};
+  // the tools' checked reader (tool_mesh_io.h, as laplacian_deform's); its reason names no folder
+  std::string error, reason;
+  if(!Laplacian_deformation_tools::read_mesh_file(file, m, error, &reason))
+    throw Request_error{400, "cannot read a mesh from " + (name == "default" ? file.string() : name) + ": " + reason};
   if(!CGAL::is_triangle_mesh(m))
     throw Request_error{400, name + ": the mesh has non-triangle faces"};
   if(num_vertices(m) > options.max_vertices)
@@ -251,17 +256,10 @@ inline json save_files(const Session& s, const std::string& folder_name, const s
   json files = json::array();
   for(const char* format : {"off", "sel", "def"})
   {
-    const std::string text = file_text(s, format);
-    const fs::path path = folder / (name + "." + format), tmp = folder / (".tmp." + name + "." + format);
-    {
-      std::ofstream out(tmp, std::ios::binary);
-      out << text;
-      if(!out)
-        throw Request_error{500, "cannot write " + tmp.string()};
-    }
-    fs::rename(tmp, path, ec);
-    if(ec)
-      throw Request_error{500, "cannot write " + path.string() + ": " + ec.message()};
+    const fs::path path = folder / (name + "." + format);
+    std::string error;
+    if(!Laplacian_deformation_tools::write_text_atomically(path, file_text(s, format), error))   // tool_files.h
+      throw Request_error{500, error};
     files.push_back(path.string());
   }
   return files;

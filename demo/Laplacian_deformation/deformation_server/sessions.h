@@ -29,7 +29,7 @@ struct Server_options
   std::string mesh;            ///< the mesh named "default" (empty: data_dir/cactus.off, or a generated bumpy plane)
   std::string data_dir;        ///< the only folder whose meshes a page may open by name
   std::string viewer_dir;      ///< viewer/: editor.html, editor.js, lib/, node_modules/three
-  std::string output_dir = "laplacian_deform_output"; ///< the only folder the server writes to (POST /api/save)
+  std::string output_dir = Laplacian_deformation_tool_defaults::output_dir(); ///< the only folder the server writes to (POST /api/save)
   std::string host = "127.0.0.1";
   int port = 8080;             ///< 0: any free port
   std::string token;           ///< required on every API call (empty: a random one per run)
