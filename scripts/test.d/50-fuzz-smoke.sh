@@ -6,7 +6,7 @@
 #   usage: scripts/test.d/50-fuzz-smoke.sh <main build folder>
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-build=$1
+build=$(cd "$1" && pwd)   # absolute: the fuzzers run from their scratch folders
 fuzz=$build-fuzz
 seconds=${FUZZ_SECONDS:-30}
 clang=$(command -v clang++-14 || command -v clang++)
