@@ -632,8 +632,7 @@ for level in lv:
                 row('%s solve / (2 x factor bytes / bandwidth)' % name, '%.1f ms / (2 x %.0f MB / %.1f GB/s = %.1f ms)' % (
                     b['solve_ms'], b['factor_mb'], bandwidth / 1e9, bound), b['solve_ms'] / bound, '<= 2',
                     'own substitutions on CHOLMOD\'s supernodal factor (Cholmod_supernodal_llt::solve_columns): one '
-                    'thread, each off-diagonal block read once per substitution for the three columns, default x86-64 '
-                    '(SSE2) code')
+                    'thread, Eigen matrix-vector kernels per column, default x86-64 (SSE2) code')
 if 1 in edge_iter and 2 in edge_iter:
     a, b = edge_iter[1], edge_iter[2]
     g_all = b['real_time'] / a['real_time']
