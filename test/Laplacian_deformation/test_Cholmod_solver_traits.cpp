@@ -91,6 +91,47 @@ TEST(CholmodSupernodalLlt, SolveColumnsMatchesCholmodSolve)
   EXPECT_FALSE(x3.allFinite());
 }
 
+// The three-column substitutions (interleaved columns, column kernels, subtrees of the elimination
+// tree on several threads) against CHOLMOD's own solve, for every kernel this processor runs and
+// both schedules; the parallel schedule is deterministic and differs from the sequential one by
+// round-off only; a new analysis (another pattern) gets a new schedule.
+TEST(CholmodSupernodalLlt, ThreeColumnSolveMatchesCholmodForEveryKernelAndSchedule)
+{
+  namespace B = LD::internal::batched;
+  const B::Batch_target initial = B::batch_target();
+  for(int side : {150, 131})
+  {
+    const Eigen::SparseMatrix<double> n = grid_normal_matrix(side);
+    LD::Cholmod_supernodal_llt llt;
+    llt.compute(n);
+    ASSERT_EQ(llt.info(), Eigen::Success);
+    ASSERT_GT(llt.factor()->xsize, 200000u) << "large enough for the parallel schedule";
+    const Eigen::MatrixXd b = Eigen::MatrixXd::Random(n.rows(), 3);
+    const Eigen::MatrixXd reference = llt.solve(b);
+    for(B::Batch_target target : {B::Batch_target::portable, B::Batch_target::avx2})
+    {
+      B::set_batch_target(target);
+      Eigen::MatrixX3d sequential, parallel, again;
+      llt.set_parallel(false);
+      ASSERT_TRUE(llt.solve_columns(b, sequential));
+      EXPECT_EQ(llt.number_of_parallel_groups(), 1u);
+      EXPECT_EQ(llt.sequential_share(), 1.);
+      llt.set_parallel(true);
+      ASSERT_TRUE(llt.solve_columns(b, parallel));
+      ASSERT_TRUE(llt.solve_columns(b, again));
+#ifdef CGAL_LINKED_WITH_TBB
+      EXPECT_GT(llt.number_of_parallel_groups(), 1u);
+      EXPECT_LT(llt.sequential_share(), 1.);
+#endif
+      EXPECT_TRUE(parallel == again) << "the parallel substitutions do not depend on the threads' timing";
+      EXPECT_LE((sequential - reference).norm(), 1e-12 * reference.norm()) << int(target);
+      EXPECT_LE((parallel - reference).norm(), 1e-12 * reference.norm()) << int(target);
+      EXPECT_LE((parallel - sequential).norm(), 1e-12 * sequential.norm()) << int(target);
+    }
+    B::set_batch_target(initial);
+  }
+}
+
 // a finite right-hand side whose solution overflows: Least_squares_solver reports NOT_FINITE (the
 // solution is checked after solve_columns(), which returns it as it is)
 TEST(CholmodSolverTraits, OverflowingSolutionIsNotFinite)

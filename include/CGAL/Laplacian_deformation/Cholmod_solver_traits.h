@@ -8,10 +8,12 @@
 // Needs SuiteSparse's CHOLMOD: link the CMake target CGAL::Laplacian_deformation_cholmod.
 #include <CGAL/Eigen_solver_traits.h>
 #include <CGAL/Laplacian_deformation/internal/normal_matrix.h>
+#include <CGAL/Laplacian_deformation/internal/supernodal_solve.h>
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 
+#include <thread>
 #include <type_traits>
 
 namespace CGAL {
@@ -22,17 +24,43 @@ namespace Laplacian_deformation {
 \brief `Eigen::CholmodSupernodalLLT` (lower triangle) with a solve of its own for a few right-hand sides.
 
 CHOLMOD factors; `solve_columns()` then runs the forward and backward substitutions itself on
-CHOLMOD's supernodal factor, supernode by supernode, with \eigen's dense matrix-vector kernels and
-no BLAS call, so that OpenBLAS's threads stay idle while the transforms are fitted on \tbb's
-threads. In an ad-hoc timing on the armadillo it was as fast as CHOLMOD's own solve with the
-default x86-64 code and 1.4 to 1.9 times faster with `-march=native`. Both compute the same
-solution up to round-off.
+CHOLMOD's supernodal factor, supernode by supernode, without BLAS calls (OpenBLAS's threads stay
+idle while the transforms are fitted on \tbb's threads). For three right-hand sides (the
+deformation's x, y, z) the columns are kept interleaved, every value of the factor is read once per
+substitution, and, with \tbb, disjoint subtrees of the supernodal elimination tree are substituted
+on several threads (`set_parallel()`): the result does not depend on the threads' timing, and
+differs from the sequential one only by round-off (the updates that several subtrees send to the
+same ancestor are summed in another order). Other numbers of columns go through one supernode at a
+time with \eigen's matrix-vector kernels. Both compute CHOLMOD's solution up to round-off.
 Everything else (`compute()`, `solve()`, `info()`, `cholmod()`) is `Eigen::CholmodSupernodalLLT`'s.
 */
 class Cholmod_supernodal_llt
   : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>
 {
 public:
+  typedef Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> Base;
+
+  /// analyses the pattern of `matrix` (as the base class; also forgets the parallel schedule of
+  /// the previous factor's substitutions)
+  void analyzePattern(const Eigen::SparseMatrix<double>& matrix)
+  {
+    Base::analyzePattern(matrix);
+    m_schedule_valid = false;
+  }
+  /// analyses and factors `matrix` (as the base class)
+  Cholmod_supernodal_llt& compute(const Eigen::SparseMatrix<double>& matrix)
+  {
+    analyzePattern(matrix);
+    factorize(matrix);
+    return *this;
+  }
+
+  /// whether `solve_columns()` may run the substitutions of three columns on \tbb's threads
+  /// (default: `true`; without \tbb it never does)
+  void set_parallel(bool parallel) { m_parallel = parallel; }
+  /// see `set_parallel()`
+  bool is_parallel() const { return m_parallel; }
+
   /// solves `A X = B` with the current factorisation, for any number of columns (`Matrix`: a
   /// resizable dense \eigen matrix such as `Eigen::MatrixX3d`). Returns `false` when there is no
   /// successful factorisation or `B` has the wrong number of rows; a solution that is not finite
@@ -49,6 +77,8 @@ public:
       x = solve(b);          // not the layout below: CHOLMOD's own solve
       return info() == Eigen::Success;
     }
+    if(b.cols() == 3)
+      return solve_three_columns(b, x);
     typedef Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> Block;
     const int n = int(l->n), nsuper = int(l->nsuper);
     const int* perm = static_cast<const int*>(l->Perm);
@@ -108,8 +138,72 @@ public:
   /// the CHOLMOD factor (`nullptr` before the first `compute()` or `analyzePattern()`).
   const cholmod_factor* factor() const { return m_cholmodFactor; }
 
+  /// the number of groups of subtrees of the elimination tree that the last three-column solve
+  /// substituted concurrently (1: sequential)
+  std::size_t number_of_parallel_groups() const { return m_parallel_groups; }
+  /// the share of the factor's values that the last three-column solve substituted on one thread
+  /// (the supernodes above the concurrent subtrees; 1 when sequential)
+  double sequential_share() const { return m_parallel_groups > 1 ? m_schedule.sequential_share() : 1.; }
+
 private:
+  internal::Supernodal_factor_view view() const
+  {
+    const cholmod_factor* l = m_cholmodFactor;
+    internal::Supernodal_factor_view v;
+    v.n = int(l->n);
+    v.nsuper = int(l->nsuper);
+    v.super = static_cast<const int*>(l->super);
+    v.pi = static_cast<const int*>(l->pi);
+    v.px = static_cast<const int*>(l->px);
+    v.rows = static_cast<const int*>(l->s);
+    v.values = static_cast<const double*>(l->x);
+    return v;
+  }
+
+  template <class Matrix>
+  bool solve_three_columns(const Eigen::Ref<const Eigen::MatrixXd>& b, Matrix& x) const
+  {
+    const internal::Supernodal_factor_view l = view();
+    const int* perm = static_cast<const int*>(m_cholmodFactor->Perm);
+    // parallel when TBB is there, allowed, and the factor is large enough to pay for the tasks
+    const bool parallel = internal::runs_in_parallel<CGAL::Parallel_tag>() && m_parallel &&
+                          m_cholmodFactor->xsize > 200000;
+    const int bins = parallel ? 2 * int((std::max)(2u, std::thread::hardware_concurrency())) : 1;
+    if(!m_schedule_valid || !m_schedule.matches(l) || m_schedule_bins != bins)
+    {
+      m_schedule.build(l, bins);
+      m_schedule_bins = bins;
+      m_schedule_valid = true;
+    }
+    m_interleaved.resize(3 * std::size_t(l.n));
+    double* y = m_interleaved.data();
+    for(int i = 0; i < l.n; ++i)   // y = P b
+    {
+      const Eigen::Index k = perm ? perm[i] : i;
+      y[3 * i] = b(k, 0);
+      y[3 * i + 1] = b(k, 1);
+      y[3 * i + 2] = b(k, 2);
+    }
+    m_schedule.solve(l, y, parallel);
+    m_parallel_groups = parallel ? (std::max)(std::size_t(1), m_schedule.number_of_bins()) : 1;
+    x.resize(l.n, 3);
+    for(int i = 0; i < l.n; ++i)   // x = P^T y
+    {
+      const Eigen::Index k = perm ? perm[i] : i;
+      x(k, 0) = y[3 * i];
+      x(k, 1) = y[3 * i + 1];
+      x(k, 2) = y[3 * i + 2];
+    }
+    return true;
+  }
+
   mutable Eigen::MatrixXd m_y, m_w;      // workspace, kept across solves
+  mutable std::vector<double> m_interleaved;
+  mutable internal::Supernodal_schedule m_schedule;   // of the current symbolic factor
+  mutable bool m_schedule_valid = false;
+  mutable int m_schedule_bins = 0;
+  mutable std::size_t m_parallel_groups = 1;
+  bool m_parallel = true;
 };
 
 /*!

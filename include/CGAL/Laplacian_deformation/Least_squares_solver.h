@@ -78,7 +78,9 @@ three columns go through one block solve; otherwise through `linear_solver()` pe
 `CGAL::Default` means `Default_solver_traits`; see also `Cholmod_solver_traits`.
 \tparam ConcurrencyTag `CGAL::Sequential_tag`, `CGAL::Parallel_tag` or
 `CGAL::Parallel_if_available_tag`: whether `factor()` forms `A^T A` on \tbb's threads (the
-entries are the same either way).
+entries are the same either way), and whether a solver with `set_parallel()` (as
+`Cholmod_supernodal_llt`) may run its substitutions on them (the solution then differs by
+round-off only, and does not depend on the threads' timing).
 */
 template <class SolverTraits = CGAL::Default, class ConcurrencyTag = CGAL::Sequential_tag>
 class Least_squares_solver
@@ -112,6 +114,7 @@ public:
                                               internal::runs_in_parallel<ConcurrencyTag>()));
                                    // owned: the traits keep a pointer to it
     ++m_number_of_factorizations;
+    set_solver_parallel(internal::Priority_1());
     if(!factor_matrix(internal::Priority_1()))
       return fail(FACTORIZATION_FAILED);
     m_factored = true;
@@ -169,6 +172,15 @@ private:
   typedef typename Solver_traits::Vector Vector;
 
   bool fail(Info info) { m_info = info; return false; }
+
+  // a solver whose substitutions may run on several threads (Cholmod_supernodal_llt) follows ConcurrencyTag
+  template <class T = Solver_traits>
+  auto set_solver_parallel(internal::Priority_1)
+      -> decltype(std::declval<T&>().solver().set_parallel(true), void())
+  {
+    m_traits.solver().set_parallel(internal::runs_in_parallel<ConcurrencyTag>());
+  }
+  void set_solver_parallel(internal::Priority_0) {}
 
   // factors m_matrix through the Eigen solver, analysing its pattern only when it changed ...
   template <class T = Solver_traits>

@@ -51,6 +51,7 @@ class Deformation_core
 {
 public:
   typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Operator;
+  typedef Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> Rows3;
 
   // the transform policy: default-constructed, or a copy of `policy`
   Deformation_core() = default;
@@ -296,7 +297,8 @@ public:
 
     update_known_part(positions);
     // b, rhs and x are kept across calls: the CLI and the editor call deform(1) per iteration
-    Eigen::MatrixX3d &b = m_b, &rhs = m_rhs, &x = m_x;
+    Rows3& b = m_b;
+    Eigen::MatrixX3d &rhs = m_rhs, &x = m_x;
     b.resize(m_a.rows(), 3);
     rhs.resize(nu, 3);
     m_soft_targets.resize(m_soft.size());
@@ -443,7 +445,7 @@ private:
 
   // b = T delta - K p_known on the Laplacian rows (the soft rows of b are set once per call),
   // and A^T b, one unknown (a column of A) per task: no two tasks write the same entry
-  void right_hand_side(Eigen::MatrixX3d& b, Eigen::MatrixX3d& rhs) const
+  void right_hand_side(Rows3& b, Eigen::MatrixX3d& rhs) const
   {
     for_each_block(m_rows.size(), [&](std::size_t begin, std::size_t end) {
       for(std::size_t r = begin; r < end; ++r)
@@ -462,7 +464,7 @@ private:
   }
 
   // |A x - b|^2, one row of A (a column of A^T) per task, summed in row order (deterministic)
-  double energy(const Eigen::MatrixX3d& x, const Eigen::MatrixX3d& b)
+  double energy(const Eigen::MatrixX3d& x, const Rows3& b)
   {
     const Eigen::SparseMatrix<double>& at = m_solver.transposed_matrix();
     for_each_block(m_row_energy.size(), [&](std::size_t begin, std::size_t end) {
@@ -570,7 +572,8 @@ private:
   std::vector<std::size_t> m_known_vertices;        // the vertices with a column in K
   std::vector<Eigen::Vector3d> m_known_positions;   // their positions when m_known_part was computed
   Eigen::MatrixX3d m_known_part;                    // K p_known
-  Eigen::MatrixX3d m_b, m_rhs, m_x;                 // right-hand side, A^T b, solution
+  Rows3 m_b;                                        // right-hand side (by rows: A^T b gathers rows of it)
+  Eigen::MatrixX3d m_rhs, m_x;                      // A^T b, solution
   std::vector<Eigen::Vector3d> m_soft_targets;      // the soft controls' targets of the current call
   std::vector<double> m_row_energy;
   bool m_has_solution = false;

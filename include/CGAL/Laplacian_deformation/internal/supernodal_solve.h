@@ -1,0 +1,513 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+
+#ifndef CGAL_LAPLACIAN_DEFORMATION_INTERNAL_SUPERNODAL_SOLVE_H
+#define CGAL_LAPLACIAN_DEFORMATION_INTERNAL_SUPERNODAL_SOLVE_H
+
+// The forward and backward substitutions of a supernodal Cholesky factor L (CHOLMOD's layout:
+// supernode s holds the columns super[s] .. super[s+1]-1 as one dense column-major block of
+// pi[s+1]-pi[s] rows, its row indices at s[pi[s]..], its values at x[px[s]..]) for three
+// right-hand sides at once, kept interleaved (row i of the solution is y[3i], y[3i+1], y[3i+2]):
+// every value of L is read once per substitution, and a row update touches one cache line.
+//
+// The supernodes are in a topological order of the supernodal elimination tree (children before
+// parents), and in CHOLMOD's postordered factors every subtree is a contiguous range of them. The
+// schedule cuts the tree into disjoint subtrees of about equal work, handed out to a fixed number of
+// bins; the bins run on TBB's threads, the supernodes above them (the top) run alone. In the
+// forward substitution a bin writes the updates its subtrees send to the top into a buffer of its
+// own, summed in bin order afterwards (the result does not depend on the threads' timing); in the
+// backward substitution the top is done first, and each subtree reads only its ancestors.
+
+#include <CGAL/Laplacian_deformation/internal/batched_transforms.h>
+#include <CGAL/Laplacian_deformation/internal/parallel.h>
+
+#ifdef CGAL_LINKED_WITH_TBB
+#include <tbb/parallel_for.h>
+#endif
+
+#include <algorithm>
+#include <cstddef>
+#include <queue>
+#include <utility>
+#include <vector>
+
+namespace CGAL {
+namespace Laplacian_deformation {
+namespace internal {
+
+// a read-only view of a supernodal LL^T factor with 32-bit indices
+struct Supernodal_factor_view
+{
+  int n = 0, nsuper = 0;
+  const int* super = nullptr;   // nsuper + 1 first columns
+  const int* pi = nullptr;      // nsuper + 1 offsets into rows
+  const int* px = nullptr;      // nsuper + 1 offsets into values
+  const int* rows = nullptr;    // row indices: the nc columns of a supernode, then the rows below
+  const double* values = nullptr;
+};
+
+// The two column kernels of the substitutions: z_k[i] -= c[i] a_k (the forward substitution's
+// update by one column of L) and s_k = sum_i c[i] z_k[i] (the backward substitution's dot product
+// with one column), for the three right-hand sides k = 0, 1, 2 kept as three arrays. A supernode
+// is swept one column after the other, so its block is read as one ascending stream: measured on
+// the machines here, one stream is read about twice as fast as two or four interleaved ones.
+// `portable` is compiled for the build's instruction set; `avx2` (AVX2 and FMA, chosen at run time
+// on x86 with GCC or Clang) does four rows per instruction. Each fixes its order of summation, so
+// a solve is reproducible for a given kernel; the two differ by round-off.
+namespace supernodal_kernels {
+
+inline void update_portable(const double* c, int len, const double* a, double* z0, double* z1, double* z2)
+{
+  const double a0 = a[0], a1 = a[1], a2 = a[2];
+  for(int i = 0; i < len; ++i)
+  {
+    z0[i] -= c[i] * a0;
+    z1[i] -= c[i] * a1;
+    z2[i] -= c[i] * a2;
+  }
+}
+
+// four partial sums per right-hand side: a fixed order, vectorisable without reassociation
+inline void dot_portable(const double* c, int len, const double* z0, const double* z1, const double* z2, double* s)
+{
+  double p0[4] = {0, 0, 0, 0}, p1[4] = {0, 0, 0, 0}, p2[4] = {0, 0, 0, 0};
+  int i = 0;
+  for(; i + 3 < len; i += 4)
+    for(int q = 0; q < 4; ++q)
+    {
+      p0[q] += c[i + q] * z0[i + q];
+      p1[q] += c[i + q] * z1[i + q];
+      p2[q] += c[i + q] * z2[i + q];
+    }
+  for(; i < len; ++i)
+  {
+    p0[0] += c[i] * z0[i];
+    p1[0] += c[i] * z1[i];
+    p2[0] += c[i] * z2[i];
+  }
+  s[0] = (p0[0] + p0[1]) + (p0[2] + p0[3]);
+  s[1] = (p1[0] + p1[1]) + (p1[2] + p1[3]);
+  s[2] = (p2[0] + p2[1]) + (p2[2] + p2[3]);
+}
+
+#if CGAL_LAPDEF_MULTIVERSIONING
+__attribute__((target("avx2,fma"))) inline double sum_avx2(__m256d v)
+{
+  const __m128d s = _mm_add_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
+  return _mm_cvtsd_f64(_mm_add_sd(s, _mm_unpackhi_pd(s, s)));
+}
+
+__attribute__((target("avx2,fma"))) inline void update_avx2(const double* c, int len, const double* a, double* z0,
+                                                            double* z1, double* z2)
+{
+  const __m256d a0 = _mm256_set1_pd(a[0]), a1 = _mm256_set1_pd(a[1]), a2 = _mm256_set1_pd(a[2]);
+  int i = 0;
+  for(; i + 3 < len; i += 4)
+  {
+    const __m256d u = _mm256_loadu_pd(c + i);
+    _mm256_storeu_pd(z0 + i, _mm256_fnmadd_pd(u, a0, _mm256_loadu_pd(z0 + i)));
+    _mm256_storeu_pd(z1 + i, _mm256_fnmadd_pd(u, a1, _mm256_loadu_pd(z1 + i)));
+    _mm256_storeu_pd(z2 + i, _mm256_fnmadd_pd(u, a2, _mm256_loadu_pd(z2 + i)));
+  }
+  for(; i < len; ++i)
+  {
+    z0[i] -= c[i] * a[0];
+    z1[i] -= c[i] * a[1];
+    z2[i] -= c[i] * a[2];
+  }
+}
+
+// eight rows per step in two sets of accumulators (six independent chains)
+__attribute__((target("avx2,fma"))) inline void dot_avx2(const double* c, int len, const double* z0,
+                                                         const double* z1, const double* z2, double* s)
+{
+  __m256d s0 = _mm256_setzero_pd(), s1 = s0, s2 = s0, t0 = s0, t1 = s0, t2 = s0;
+  int i = 0;
+  for(; i + 7 < len; i += 8)
+  {
+    const __m256d u = _mm256_loadu_pd(c + i), v = _mm256_loadu_pd(c + i + 4);
+    s0 = _mm256_fmadd_pd(u, _mm256_loadu_pd(z0 + i), s0);
+    s1 = _mm256_fmadd_pd(u, _mm256_loadu_pd(z1 + i), s1);
+    s2 = _mm256_fmadd_pd(u, _mm256_loadu_pd(z2 + i), s2);
+    t0 = _mm256_fmadd_pd(v, _mm256_loadu_pd(z0 + i + 4), t0);
+    t1 = _mm256_fmadd_pd(v, _mm256_loadu_pd(z1 + i + 4), t1);
+    t2 = _mm256_fmadd_pd(v, _mm256_loadu_pd(z2 + i + 4), t2);
+  }
+  if(i + 3 < len)
+  {
+    const __m256d u = _mm256_loadu_pd(c + i);
+    s0 = _mm256_fmadd_pd(u, _mm256_loadu_pd(z0 + i), s0);
+    s1 = _mm256_fmadd_pd(u, _mm256_loadu_pd(z1 + i), s1);
+    s2 = _mm256_fmadd_pd(u, _mm256_loadu_pd(z2 + i), s2);
+    i += 4;
+  }
+  double r0 = sum_avx2(_mm256_add_pd(s0, t0)), r1 = sum_avx2(_mm256_add_pd(s1, t1)),
+         r2 = sum_avx2(_mm256_add_pd(s2, t2));
+  for(; i < len; ++i)
+  {
+    r0 += c[i] * z0[i];
+    r1 += c[i] * z1[i];
+    r2 += c[i] * z2[i];
+  }
+  s[0] = r0;
+  s[1] = r1;
+  s[2] = r2;
+}
+#endif
+
+struct Kernels
+{
+  void (*update)(const double*, int, const double*, double*, double*, double*) = &update_portable;
+  void (*dot)(const double*, int, const double*, const double*, const double*, double*) = &dot_portable;
+  const char* name = "portable";
+};
+
+// the kernels of this process: AVX2 + FMA where the processor has them, unless the SIMD target of
+// the batched transforms (CGAL_LAPLACIAN_DEFORMATION_SIMD, set_batch_target()) is below AVX2
+inline Kernels kernels()
+{
+  Kernels k;
+#if CGAL_LAPDEF_MULTIVERSIONING
+  if(int(batched::batch_target()) >= int(batched::Batch_target::avx2) && __builtin_cpu_supports("avx2") &&
+     __builtin_cpu_supports("fma"))
+  {
+    k.update = &update_avx2;
+    k.dot = &dot_avx2;
+    k.name = "avx2";
+  }
+#endif
+  return k;
+}
+
+} // namespace supernodal_kernels
+
+class Supernodal_schedule
+{
+public:
+  // builds the schedule of `l` for up to `bins` bins; a factor whose supernodes are not postordered
+  // (every subtree contiguous) gets a sequential schedule
+  void build(const Supernodal_factor_view& l, int bins)
+  {
+    m_bins.clear();
+    m_top.clear();
+    m_top_index.assign(std::size_t(l.n), -1);
+    m_top_columns = 0;
+    m_n = l.n;
+    m_nsuper = l.nsuper;
+    const int ns = l.nsuper;
+    const std::size_t nn = std::size_t(l.n), nsn = std::size_t(l.nsuper);
+    std::vector<int> column_super(nn);
+    for(int s = 0; s < ns; ++s)
+      for(int c = l.super[s]; c < l.super[s + 1]; ++c)
+        column_super[std::size_t(c)] = s;
+    std::vector<int> parent(nsn, -1), first(nsn), size(nsn, 1);
+    std::vector<double> work(nsn);
+    double total = 0;
+    bool postordered = true;
+    for(int s = 0; s < ns; ++s)
+    {
+      const int nc = l.super[s + 1] - l.super[s], nr = l.pi[s + 1] - l.pi[s];
+      work[std::size_t(s)] = double(nr) * double(nc) + 8.;   // values read, and a fixed cost
+      total += work[std::size_t(s)];
+      first[std::size_t(s)] = s;
+      int lowest = l.n;
+      for(int k = l.pi[s] + nc; k < l.pi[s + 1]; ++k)
+        lowest = (std::min)(lowest, l.rows[k]);
+      if(lowest < l.n)
+      {
+        const int p = column_super[std::size_t(lowest)];
+        postordered = postordered && p > s;
+        parent[std::size_t(s)] = p;
+      }
+    }
+    for(int s = 0; postordered && s < ns; ++s)   // children before parents: sizes and work bottom-up
+    {
+      const int p = parent[std::size_t(s)];
+      postordered = first[std::size_t(s)] == s + 1 - size[std::size_t(s)];   // the subtree is [first, s]
+      if(p >= 0)
+      {
+        first[std::size_t(p)] = (std::min)(first[std::size_t(p)], first[std::size_t(s)]);
+        size[std::size_t(p)] += size[std::size_t(s)];
+        work[std::size_t(p)] += work[std::size_t(s)];
+      }
+    }
+    m_sequential_share = 1.;
+    if(!postordered || bins < 2 || ns < 2)
+    {
+      for(int s = 0; s < ns; ++s)
+        m_top.push_back(s);
+      return;
+    }
+    // split the heaviest subtree until every subtree is at most total / (4 bins)
+    std::vector<std::vector<int>> children(nsn);
+    std::priority_queue<std::pair<double, int>> heap;
+    for(int s = 0; s < ns; ++s)
+      if(parent[std::size_t(s)] >= 0)
+        children[std::size_t(parent[std::size_t(s)])].push_back(s);
+      else
+        heap.push({work[std::size_t(s)], s});
+    std::vector<char> is_top(nsn, 0);
+    const double limit = total / (4. * bins);
+    while(!heap.empty() && heap.top().first > limit)
+    {
+      const int s = heap.top().second;
+      heap.pop();
+      is_top[std::size_t(s)] = 1;
+      for(int c : children[std::size_t(s)])
+        heap.push({work[std::size_t(c)], c});
+    }
+    // the remaining subtrees, heaviest first, each to the lightest bin (deterministic)
+    std::vector<std::pair<double, int>> subtrees;
+    while(!heap.empty())
+    {
+      subtrees.push_back(heap.top());
+      heap.pop();
+    }
+    std::sort(subtrees.begin(), subtrees.end(),
+              [](const std::pair<double, int>& a, const std::pair<double, int>& b) {
+                return a.first > b.first || (a.first == b.first && a.second < b.second);
+              });
+    m_bins.assign(std::size_t(bins), Bin());
+    std::vector<double> load(std::size_t(bins), 0.);
+    for(const auto& t : subtrees)
+    {
+      const std::size_t b = std::size_t(std::min_element(load.begin(), load.end()) - load.begin());
+      load[b] += t.first;
+      m_bins[b].subtrees.push_back({first[std::size_t(t.second)], t.second});
+    }
+    for(Bin& bin : m_bins)
+    {
+      std::sort(bin.subtrees.begin(), bin.subtrees.end());
+      for(const auto& t : bin.subtrees)
+        bin.column_end.push_back(l.super[t.second + 1]);
+    }
+    m_bins.erase(std::remove_if(m_bins.begin(), m_bins.end(), [](const Bin& b) { return b.subtrees.empty(); }),
+                 m_bins.end());
+    double top_work = 0;
+    for(int s = 0; s < ns; ++s)
+      if(is_top[std::size_t(s)])
+      {
+        top_work += double(l.pi[s + 1] - l.pi[s]) * double(l.super[s + 1] - l.super[s]);
+        m_top.push_back(s);
+        for(int c = l.super[s]; c < l.super[s + 1]; ++c)
+          m_top_index[std::size_t(c)] = m_top_columns++;
+      }
+    m_sequential_share = total > 0 ? top_work / total : 1.;
+  }
+
+  bool matches(const Supernodal_factor_view& l) const { return m_n == l.n && m_nsuper == l.nsuper; }
+  std::size_t number_of_bins() const { return m_bins.size(); }
+  // the share of the factor's values in the supernodes substituted by one thread (the top)
+  double sequential_share() const { return m_sequential_share; }
+
+  // L Y = Y (forward) then L^T Y = Y (backward), Y interleaved (3 doubles per row)
+  void solve(const Supernodal_factor_view& l, double* y, bool parallel) const
+  {
+    m_kernels = supernodal_kernels::kernels();
+    forward(l, y, parallel);
+    backward(l, y, parallel);
+  }
+
+private:
+  struct Bin
+  {
+    std::vector<std::pair<int, int>> subtrees;   // [first, last] supernodes, increasing
+    std::vector<int> column_end;                 // per subtree: one past its last column
+  };
+  struct Workspace
+  {
+    std::vector<double> w, top;
+  };
+
+  // the bins in parallel (or in order), each with its workspace
+  template <class F>
+  void for_each_bin(bool parallel, const F& f) const
+  {
+#ifdef CGAL_LINKED_WITH_TBB
+    if(parallel && m_bins.size() > 1)
+    {
+      tbb::parallel_for(std::size_t(0), m_bins.size(), [&](std::size_t b) { f(b); }, tbb::simple_partitioner());
+      return;
+    }
+#else
+    (void)parallel;
+#endif
+    for(std::size_t b = 0; b < m_bins.size(); ++b)
+      f(b);
+  }
+
+  static std::size_t max_rows(const Supernodal_factor_view& l, int s0, int s1)
+  {
+    std::size_t m = 0;
+    for(int s = s0; s <= s1; ++s)
+      m = (std::max)(m, std::size_t(l.pi[s + 1] - l.pi[s]));
+    return m;
+  }
+
+  void forward(const Supernodal_factor_view& l, double* y, bool parallel) const
+  {
+    m_workspaces.resize((std::max)(m_bins.size(), std::size_t(1)));
+    for_each_bin(parallel, [&](std::size_t b) {
+      const Bin& bin = m_bins[b];
+      Workspace& ws = m_workspaces[b];
+      ws.top.assign(3 * std::size_t(m_top_columns), 0.);
+      for(std::size_t t = 0; t < bin.subtrees.size(); ++t)
+      {
+        ws.w.resize(3 * max_rows(l, bin.subtrees[t].first, bin.subtrees[t].second));
+        for(int s = bin.subtrees[t].first; s <= bin.subtrees[t].second; ++s)
+          forward_supernode(l, s, y, ws.w.data(), bin.column_end[t], ws.top.data());
+      }
+    });
+    for(std::size_t b = 0; b < m_bins.size(); ++b)   // the updates sent to the top, in bin order
+      for(std::size_t s : m_top)
+        for(int c = l.super[s]; c < l.super[s + 1]; ++c)
+        {
+          const double* u = m_workspaces[b].top.data() + 3 * std::size_t(m_top_index[std::size_t(c)]);
+          double* yc = y + 3 * std::size_t(c);
+          yc[0] -= u[0];
+          yc[1] -= u[1];
+          yc[2] -= u[2];
+        }
+    Workspace& ws = m_workspaces[0];
+    ws.w.resize(3 * max_rows(l, 0, l.nsuper - 1));
+    for(int s : m_top)
+      forward_supernode(l, s, y, ws.w.data(), l.n, nullptr);
+  }
+
+  void backward(const Supernodal_factor_view& l, double* y, bool parallel) const
+  {
+    m_workspaces.resize((std::max)(m_bins.size(), std::size_t(1)));
+    {
+      Workspace& ws = m_workspaces[0];
+      ws.w.resize(3 * max_rows(l, 0, l.nsuper - 1));
+      for(auto s = m_top.rbegin(); s != m_top.rend(); ++s)
+        backward_supernode(l, *s, y, ws.w.data());
+    }
+    for_each_bin(parallel, [&](std::size_t b) {
+      const Bin& bin = m_bins[b];
+      Workspace& ws = m_workspaces[b];
+      for(std::size_t t = bin.subtrees.size(); t-- > 0;)
+      {
+        ws.w.resize(3 * max_rows(l, bin.subtrees[t].first, bin.subtrees[t].second));
+        for(int s = bin.subtrees[t].second; s >= bin.subtrees[t].first; --s)
+          backward_supernode(l, s, y, ws.w.data());
+      }
+    });
+  }
+
+  // the supernode's rows as three arrays z (of nr) in `w`, swept column by column: z[j] /= L(j,j),
+  // then z[j+1..nr) -= L(j+1..nr, j) z[j]. The rows below the block hold minus the update they send
+  // (added to y for the rows < `column_end`, the running subtree; subtracted from `top`, the bin's
+  // buffer of the top's columns, for the others; `top` null: everything to y)
+  void forward_supernode(const Supernodal_factor_view& l, int s, double* y, double* w, int column_end,
+                         double* top) const
+  {
+    const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s];
+    const double* block = l.values + l.px[s];
+    double* ys = y + 3 * std::size_t(k0);
+    double* z0 = w;
+    double* z1 = w + nr;
+    double* z2 = w + 2 * std::size_t(nr);
+    for(int i = 0; i < nc; ++i)
+    {
+      z0[i] = ys[3 * i];
+      z1[i] = ys[3 * i + 1];
+      z2[i] = ys[3 * i + 2];
+    }
+    std::fill(z0 + nc, z0 + nr, 0.);
+    std::fill(z1 + nc, z1 + nr, 0.);
+    std::fill(z2 + nc, z2 + nr, 0.);
+    for(int j = 0; j < nc; ++j)
+    {
+      const double* c = block + std::size_t(j) * std::size_t(nr);
+      const double inverse = 1. / c[j];
+      const double a[3] = {z0[j] * inverse, z1[j] * inverse, z2[j] * inverse};
+      z0[j] = a[0];
+      z1[j] = a[1];
+      z2[j] = a[2];
+      m_kernels.update(c + j + 1, nr - j - 1, a, z0 + j + 1, z1 + j + 1, z2 + j + 1);
+    }
+    for(int i = 0; i < nc; ++i)
+    {
+      ys[3 * i] = z0[i];
+      ys[3 * i + 1] = z1[i];
+      ys[3 * i + 2] = z2[i];
+    }
+    const int* r = l.rows + l.pi[s];
+    for(int i = nc; i < nr; ++i)
+      if(top == nullptr || r[i] < column_end)
+      {
+        double* t = y + 3 * std::size_t(r[i]);
+        t[0] += z0[i];
+        t[1] += z1[i];
+        t[2] += z2[i];
+      }
+      else
+      {
+        double* t = top + 3 * std::size_t(m_top_index[std::size_t(r[i])]);
+        t[0] -= z0[i];
+        t[1] -= z1[i];
+        t[2] -= z2[i];
+      }
+  }
+
+  // z[nc..nr) = the solved rows below the block; first every column's dot product with them (the
+  // columns in ascending order: one stream), then the diagonal block, transposed, from its last column
+  void backward_supernode(const Supernodal_factor_view& l, int s, double* y, double* w) const
+  {
+    const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s], m = nr - nc;
+    const double* block = l.values + l.px[s];
+    double* ys = y + 3 * std::size_t(k0);
+    double* z0 = w;
+    double* z1 = w + nr;
+    double* z2 = w + 2 * std::size_t(nr);
+    const int* r = l.rows + l.pi[s];
+    for(int i = nc; i < nr; ++i)
+    {
+      const double* yr = y + 3 * std::size_t(r[i]);
+      z0[i] = yr[0];
+      z1[i] = yr[1];
+      z2[i] = yr[2];
+    }
+    for(int j = 0; j < nc; ++j)
+    {
+      double t[3] = {0, 0, 0};
+      if(m > 0)
+        m_kernels.dot(block + std::size_t(j) * std::size_t(nr) + nc, m, z0 + nc, z1 + nc, z2 + nc, t);
+      z0[j] = ys[3 * j] - t[0];
+      z1[j] = ys[3 * j + 1] - t[1];
+      z2[j] = ys[3 * j + 2] - t[2];
+    }
+    for(int j = nc - 1; j >= 0; --j)
+    {
+      const double* c = block + std::size_t(j) * std::size_t(nr);
+      double t[3];
+      m_kernels.dot(c + j + 1, nc - j - 1, z0 + j + 1, z1 + j + 1, z2 + j + 1, t);
+      const double inverse = 1. / c[j];
+      z0[j] = (z0[j] - t[0]) * inverse;
+      z1[j] = (z1[j] - t[1]) * inverse;
+      z2[j] = (z2[j] - t[2]) * inverse;
+    }
+    for(int i = 0; i < nc; ++i)
+    {
+      ys[3 * i] = z0[i];
+      ys[3 * i + 1] = z1[i];
+      ys[3 * i + 2] = z2[i];
+    }
+  }
+
+  std::vector<Bin> m_bins;
+  std::vector<int> m_top;         // the supernodes above the bins' subtrees, increasing
+  std::vector<int> m_top_index;   // per column: its index among the top's columns, or -1
+  int m_top_columns = 0, m_n = -1, m_nsuper = -1;
+  double m_sequential_share = 1.;
+  mutable std::vector<Workspace> m_workspaces;
+  mutable supernodal_kernels::Kernels m_kernels;
+};
+
+} // namespace internal
+} // namespace Laplacian_deformation
+} // namespace CGAL
+
+#endif // CGAL_LAPLACIAN_DEFORMATION_INTERNAL_SUPERNODAL_SOLVE_H
