@@ -105,6 +105,7 @@ struct Memory_probe
 struct Factor_record
 {
   double seconds = 0, analyse_seconds = 0, factorise_seconds = 0, flops = 0, bytes = 0, lnz = 0, n = 0;
+  double solve_sequential_share = 1, solve_groups = 1;   // of the last three-column solve
   bool valid = false;
 };
 Factor_record last_factor;
@@ -149,6 +150,15 @@ struct Recording_supernodal_llt : public LD::Cholmod_supernodal_llt
     }
     return *this;
   }
+  // Base::solve_columns(), also recording how the substitutions were shared between threads
+  template <class Matrix>
+  bool solve_columns(const Eigen::Ref<const Eigen::MatrixXd>& b, Matrix& x) const
+  {
+    const bool ok = Base::solve_columns(b, x);
+    last_factor.solve_sequential_share = sequential_share();
+    last_factor.solve_groups = double(number_of_parallel_groups());
+    return ok;
+  }
 };
 typedef CGAL::Eigen_solver_traits<Recording_supernodal_llt> Bench_solver_traits;
 #else
@@ -167,6 +177,8 @@ void report_factor(benchmark::State& state)
   state.counters["factor_mb"] = last_factor.bytes / 1e6;
   state.counters["factor_lnz"] = last_factor.lnz;
   state.counters["n"] = last_factor.n;
+  state.counters["solve_sequential_share"] = last_factor.solve_sequential_share;
+  state.counters["solve_groups"] = last_factor.solve_groups;
 }
 
 #ifdef LAPLACIAN_DEFORMATION_BENCH_HAS_BLAS

@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include <Eigen/Core>
 #include <Eigen/QR>
 #include <Eigen/SparseCholesky>
@@ -436,8 +438,15 @@ TEST(LeastSquaresSolver, SolveNormalEquationsMatchesSolve)
   ASSERT_TRUE(solver.factor(a));
   Eigen::MatrixX3d x, y, z;
   ASSERT_TRUE(solver.solve(b, x));
-  ASSERT_TRUE(solver.solve_normal_equations(Eigen::MatrixX3d(solver.transposed_matrix() * b), y));
+  EXPECT_TRUE(solver.matrix().isApprox(a));   // kept as given (the rvalue factor() takes it over)
+  ASSERT_TRUE(solver.solve_normal_equations(Eigen::MatrixX3d(solver.matrix().transpose() * b), y));
   EXPECT_EQ(x, y);
+  Eigen::SparseMatrix<double> moved = a;
+  LD::Least_squares_solver<> taker;
+  ASSERT_TRUE(taker.factor(std::move(moved)));
+  ASSERT_TRUE(taker.solve(b, z));
+  EXPECT_EQ(z, x);
+  EXPECT_EQ(taker.matrix().nonZeros(), a.nonZeros());
   EXPECT_FALSE(solver.solve_normal_equations(Eigen::MatrixX3d::Zero(59, 3), z));
   EXPECT_EQ(solver.info(), LD::Least_squares_solver<>::SOLVE_FAILED);
 

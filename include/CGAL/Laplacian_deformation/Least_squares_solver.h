@@ -8,6 +8,7 @@
 #include <CGAL/Default.h>
 #include <CGAL/tags.h>
 #include <CGAL/Eigen_solver_traits.h>
+#include <CGAL/Eigen_sparse_matrix.h>
 #include <CGAL/Laplacian_deformation/internal/normal_matrix.h>
 #ifdef CGAL_LAPLACIAN_DEFORMATION_USE_CHOLMOD
 #include <CGAL/Laplacian_deformation/Cholmod_solver_traits.h>
@@ -63,8 +64,9 @@ typedef Eigen_simplicial_solver_traits Default_solver_traits;
 
 \brief Factor once, solve many: the least-squares solve shared by every representation and policy.
 
-`factor(A)` forms the normal matrix `N = A^T A` of the sparse system matrix `A`, keeps `A^T` and
-`N` (the wrapper owns everything the factorisation refers to) and factors `N`. For traits that
+`factor(A)` forms the normal matrix `N = A^T A` of the sparse system matrix `A`, keeps `A` and
+`N` (the wrapper owns everything the factorisation refers to) and factors `N`; `A^T` exists only
+while `N` is formed. For traits that
 factor only the lower triangle (`Eigen_solver_traits` of `Eigen::SimplicialLLT`,
 `Eigen::SimplicialLDLT` or a CHOLMOD Cholesky with `Eigen::Lower`, such as
 `Cholmod_solver_traits`) only that triangle of `N` is formed and kept.
@@ -102,17 +104,30 @@ public:
   /// factors `A^T A`. Returns `false` (and `info()` says why) on failure.
   bool factor(const Eigen::SparseMatrix<double>& a)
   {
+    Eigen::SparseMatrix<double> copy(a);
+    return factor(std::move(copy));
+  }
+  /// factors `A^T A`, taking `a` over (it is left empty): no copy of `A` is made. `A^T` exists only
+  /// while `A^T A` is formed, and is freed before the factorisation (whose memory is the peak).
+  bool factor(Eigen::SparseMatrix<double>&& a)
+  {
     m_factored = false;
     for(Eigen::Index k = 0; k < a.outerSize(); ++k)      // also right for uncompressed matrices
       for(Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it)
         if(!std::isfinite(it.value()))
           return fail(NOT_FINITE);
-    m_transposed = a.transpose();
-    // only the lower triangle when the traits read no more of it (Cholesky factorisations)
-    m_matrix = Matrix(internal::normal_matrix(a, m_transposed,
-                                              internal::Solver_traits_read_lower_triangle<Solver_traits>::value,
-                                              internal::runs_in_parallel<ConcurrencyTag>()));
-                                   // owned: the traits keep a pointer to it
+    a.makeCompressed();
+    m_a.swap(a);
+    {
+      Eigen::SparseMatrix<double> n;
+      {
+        const Eigen::SparseMatrix<double> at = m_a.transpose();
+        // only the lower triangle when the traits read no more of it (Cholesky factorisations)
+        n = internal::normal_matrix(m_a, at, internal::Solver_traits_read_lower_triangle<Solver_traits>::value,
+                                    internal::runs_in_parallel<ConcurrencyTag>());
+      }
+      set_matrix(m_matrix, n);     // owned: the traits keep a pointer to it
+    }
     ++m_number_of_factorizations;
     set_solver_parallel(internal::Priority_1());
     if(!factor_matrix(internal::Priority_1()))
@@ -128,7 +143,7 @@ public:
       return fail(NOT_FACTORED);
     if(!b.allFinite())
       return fail(NOT_FINITE);
-    return solve_normal_equations(m_transposed * b, x);
+    return solve_normal_equations(m_a.transpose() * b, x);
   }
 
   /// solves `A^T A X = R` for a right-hand side `R = A^T B` the caller has already formed
@@ -160,10 +175,11 @@ public:
   /// and `factorize()`, as `Eigen_solver_traits`), `factor()` reuses the previous analysis when the
   /// pattern of `A^T A` is the previous one's (only the values changed); otherwise one per factorisation.
   std::size_t number_of_analyses() const { return m_number_of_analyses; }
-  /// `A^T` (compressed, sorted), as kept since the last successful `factor()`: its column `r` is row `r` of `A`.
-  const Eigen::SparseMatrix<double>& transposed_matrix() const { return m_transposed; }
+  /// `A` (compressed, sorted by columns), as kept since the last `factor()` that got past its input
+  /// check: its column `j` holds the coefficients of unknown `j` (`solve()` forms `A^T B` from it).
+  const Eigen::SparseMatrix<double>& matrix() const { return m_a; }
   /// the number of unknowns per coordinate.
-  Eigen::Index number_of_unknowns() const { return m_transposed.rows(); }
+  Eigen::Index number_of_unknowns() const { return m_a.cols(); }
   /// the solver traits (for example to tune the underlying solver; settings are kept across factorisations).
   Solver_traits& solver_traits() { return m_traits; }
 
@@ -172,6 +188,17 @@ private:
   typedef typename Solver_traits::Vector Vector;
 
   bool fail(Info info) { m_info = info; return false; }
+
+  // m = n without a copy of n when the traits' matrix wraps an Eigen matrix (Eigen 3.4's sparse
+  // matrices have no move assignment: a plain assignment copies)
+  static void set_matrix(CGAL::Eigen_sparse_matrix<double>& m, Eigen::SparseMatrix<double>& n)
+  {
+    CGAL::Eigen_sparse_matrix<double> fresh;
+    fresh.eigen_object().swap(n);
+    m.swap(fresh);
+  }
+  template <class M>
+  static void set_matrix(M& m, Eigen::SparseMatrix<double>& n) { m = M(n); }
 
   // a solver whose substitutions may run on several threads (Cholmod_supernodal_llt) follows ConcurrencyTag
   template <class T = Solver_traits>
@@ -254,7 +281,7 @@ private:
     return true;
   }
 
-  Eigen::SparseMatrix<double> m_transposed;
+  Eigen::SparseMatrix<double> m_a;
   Matrix m_matrix;
   std::vector<int> m_pattern_outer, m_pattern_inner;   // the pattern of the last analysed N
   Eigen::Index m_pattern_size = -1;

@@ -720,7 +720,7 @@ private:
                                   internal::runs_in_parallel<ConcurrencyTag>(), true, &m_roi);
     m_stencils = std::move(r.stencils);
     m_rest_nodes = std::move(r.rest_nodes);
-    m_d = std::move(r.d);
+    m_d.swap(r.d);   // Eigen 3.4's sparse matrices have no move assignment: std::move would copy
     m_delta = std::move(r.delta);
     if(!m_stencils.global_node.empty())
     {

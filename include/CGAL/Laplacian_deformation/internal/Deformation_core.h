@@ -72,6 +72,7 @@ public:
     Deformation_result result;
     m_ready = false;
     m_stencils = &s;
+    m_operator = &d;
     const std::size_t n = s.number_of_vertices;
 
     // unknowns
@@ -238,7 +239,8 @@ public:
       m_a.innerIndexPtr()[last] = int(nr) + int(k);
       m_a.valuePtr()[last] = m_lambda;
     }
-    if(nu > 0 && !m_solver.factor(m_a))
+    const Eigen::Index a_rows = m_a.rows();
+    if(nu > 0 && !m_solver.factor(std::move(m_a)))   // the solver keeps A: no copy
     {
       result.status = m_solver.info() == m_solver.NOT_FINITE ? NON_FINITE_INPUT : FACTORIZATION_FAILED;
       result.message = m_solver.info() == m_solver.NOT_FINITE
@@ -277,7 +279,7 @@ public:
         m_known_vertices.push_back(v);
     m_known_positions.clear();
     m_known_part.setZero(nr, 3);
-    m_row_energy.assign(std::size_t(m_a.rows()), 0.);
+    m_row_energy.assign(std::size_t(a_rows), 0.);
     m_has_solution = false;
     m_ready = true;
     return result;
@@ -299,7 +301,7 @@ public:
     // b, rhs and x are kept across calls: the CLI and the editor call deform(1) per iteration
     Rows3& b = m_b;
     Eigen::MatrixX3d &rhs = m_rhs, &x = m_x;
-    b.resize(m_a.rows(), 3);
+    b.resize(Eigen::Index(m_row_energy.size()), 3);
     rhs.resize(nu, 3);
     m_soft_targets.resize(m_soft.size());
     for(std::size_t k = 0; k < m_soft.size(); ++k)
@@ -353,7 +355,7 @@ public:
       }
       m_solution = x;
       m_has_solution = true;
-      result.energies.push_back(energy(x, b));
+      result.energies.push_back(energy(current, b));
       result.last_change = diagonal > 0 ? change / (unit * diagonal) : change / unit;
       ++result.iterations;
       if(result.last_change <= tolerance)
@@ -452,30 +454,39 @@ private:
         b.row(Eigen::Index(r)) = (m_transforms[m_row_fit[r]] * m_delta.row(Eigen::Index(r)).transpose()).transpose() -
                                  m_known_part.row(Eigen::Index(r));
     });
-    for_each_block(std::size_t(m_a.cols()), [&](std::size_t begin, std::size_t end) {
+    const Eigen::SparseMatrix<double>& a = m_solver.matrix();
+    for_each_block(std::size_t(a.cols()), [&](std::size_t begin, std::size_t end) {
       for(std::size_t j = begin; j < end; ++j)
       {
         Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
-        for(Eigen::SparseMatrix<double>::InnerIterator it(m_a, Eigen::Index(j)); it; ++it)
+        for(Eigen::SparseMatrix<double>::InnerIterator it(a, Eigen::Index(j)); it; ++it)
           sum += it.value() * b.row(it.row());
         rhs.row(Eigen::Index(j)) = sum;
       }
     });
   }
 
-  // |A x - b|^2, one row of A (a column of A^T) per task, summed in row order (deterministic)
-  double energy(const Eigen::MatrixX3d& x, const Rows3& b)
+  // |A x - b|^2 from the operator's rows (no copy of A by rows is kept): row r of A x is the sum
+  // over the unknown columns of D_r (the same terms in the same order as A's row r) with p the
+  // positions, the unknowns at x; the soft rows are lambda x_c. One row per task, summed in row
+  // order (deterministic).
+  double energy(const std::vector<Eigen::Vector3d>& p, const Rows3& b)
   {
-    const Eigen::SparseMatrix<double>& at = m_solver.transposed_matrix();
-    for_each_block(m_row_energy.size(), [&](std::size_t begin, std::size_t end) {
+    const Operator& d = *m_operator;
+    const std::size_t nr = m_rows.size();
+    for_each_block(nr, [&](std::size_t begin, std::size_t end) {
       for(std::size_t r = begin; r < end; ++r)
       {
         Eigen::RowVector3d residual = -b.row(Eigen::Index(r));
-        for(Eigen::SparseMatrix<double>::InnerIterator it(at, Eigen::Index(r)); it; ++it)
-          residual += it.value() * x.row(it.row());
+        for(Operator::InnerIterator it(d, Eigen::Index(m_rows[r])); it; ++it)
+          if(m_unknown_index[std::size_t(it.col())] >= 0)
+            residual += it.value() * p[std::size_t(it.col())].transpose();
         m_row_energy[r] = residual.squaredNorm();
       }
     });
+    for(std::size_t k = 0; k < m_soft.size(); ++k)
+      m_row_energy[nr + k] =
+          (m_lambda * p[m_unknowns[m_soft[k]]].transpose() - b.row(Eigen::Index(nr + k))).squaredNorm();
     return std::accumulate(m_row_energy.begin(), m_row_energy.end(), 0.);
   }
 
@@ -557,6 +568,7 @@ private:
   }
 
   const Laplacian_stencils* m_stencils = nullptr;
+  const Operator* m_operator = nullptr;   // D (its rows m_rows are the system's), owned by the caller
   TransformPolicy m_policy;
   Least_squares_solver<SolverTraits, ConcurrencyTag> m_solver;
   std::vector<long> m_unknown_index;
@@ -564,7 +576,7 @@ private:
   std::vector<std::size_t> m_fit_nodes, m_row_fit;   // the fitted nodes; per row, its fitted node
   std::size_t m_max_degree = 0;
   const std::vector<Eigen::Vector3d>* m_rest_nodes = nullptr;   // P p_rest, owned by the caller
-  Eigen::SparseMatrix<double> m_a, m_known;
+  Eigen::SparseMatrix<double> m_a, m_known;   // A (handed to m_solver by preprocess()) and K
   double m_lambda = 0;
   Eigen::MatrixX3d m_delta, m_solution;
   std::vector<Eigen::Vector3d> m_node_positions;

@@ -429,7 +429,10 @@ void build_rest_operator(Rest_operator& r, const Nodes& nodes, const VertexIndex
   // the fan triangles serve the weights only: free them before a factorisation (its peak)
   std::vector<std::array<std::size_t, 2>>().swap(r.stencils.fan);
   std::vector<std::size_t>().swap(r.stencils.fan_start);
-  r.d = laplacian_operator(r.stencils);
+  {
+    Eigen::SparseMatrix<double, Eigen::RowMajor> d = laplacian_operator(r.stencils);
+    r.d.swap(d);   // an assignment would copy it (no move assignment in Eigen 3.4)
+  }
   r.delta = operator_times_positions(r.d, rest);
 }
 
