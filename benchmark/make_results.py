@@ -633,9 +633,10 @@ for level in lv:
                     b['solve_ms'], b['factor_mb'], bandwidth / 1e9, bound), b['solve_ms'] / bound, '<= 2',
                     'own substitutions on CHOLMOD\'s supernodal factor (Cholmod_supernodal_llt::solve_columns): three '
                     'columns interleaved, each supernode swept column by column (AVX2+FMA kernels where the processor '
-                    'has them), subtrees of the elimination tree in %d groups on TBB\'s threads; %.0f%% of the factor\'s '
-                    'values lie in the supernodes above them (the top), substituted by one thread' % (
-                        int(b.get('solve_groups', 1)), 100 * b.get('solve_sequential_share', 1)))
+                    'has them), subtrees of the elimination tree on TBB\'s threads, level after level (%d levels of up to '
+                    '%d groups); %.0f%% of the factor\'s values are left to one thread (the top)' % (
+                        int(b.get('solve_levels', 0)), int(b.get('solve_groups', 1)),
+                        100 * b.get('solve_sequential_share', 1)))
 if 1 in edge_iter and 2 in edge_iter:
     a, b = edge_iter[1], edge_iter[2]
     g_all = b['real_time'] / a['real_time']

@@ -105,7 +105,7 @@ struct Memory_probe
 struct Factor_record
 {
   double seconds = 0, analyse_seconds = 0, factorise_seconds = 0, flops = 0, bytes = 0, lnz = 0, n = 0;
-  double solve_sequential_share = 1, solve_groups = 1;   // of the last three-column solve
+  double solve_sequential_share = 1, solve_groups = 1, solve_levels = 0;   // of the last three-column solve
   bool valid = false;
 };
 Factor_record last_factor;
@@ -157,6 +157,7 @@ struct Recording_supernodal_llt : public LD::Cholmod_supernodal_llt
     const bool ok = Base::solve_columns(b, x);
     last_factor.solve_sequential_share = sequential_share();
     last_factor.solve_groups = double(number_of_parallel_groups());
+    last_factor.solve_levels = double(number_of_parallel_levels());
     return ok;
   }
 };
@@ -179,6 +180,7 @@ void report_factor(benchmark::State& state)
   state.counters["n"] = last_factor.n;
   state.counters["solve_sequential_share"] = last_factor.solve_sequential_share;
   state.counters["solve_groups"] = last_factor.solve_groups;
+  state.counters["solve_levels"] = last_factor.solve_levels;
 }
 
 #ifdef LAPLACIAN_DEFORMATION_BENCH_HAS_BLAS

@@ -134,11 +134,25 @@ class EveryCombination : public ::testing::Test {};
   Config<R, W, LD::Similarity_transform>, Config<R, W, LD::Scaled_rotation_transform>,                    \
   Config<R, W, LD::Principal_scaled_rotation_transform>, Config<R, W, LD::Rotation_scale_rotation_transform>, \
   Config<R, W, LD::Anchored_scaled_rotation_transform>
+#ifdef LAPLACIAN_DEFORMATION_TEST_FEWER_COMBINATIONS
+// the sanitizer build (scripts/test.d/40-sanitizers.sh): every transform with the edge-based
+// representation and cotangent weights, Fixed and S*R1 with the other three pairs (13 of the 28
+// instantiations, which dominate its build time; the policies themselves are all tested there)
+typedef ::testing::Types<
+  Config<LD::Vertex_based_representation, LD::Uniform_weights, LD::Fixed_transform>,
+  Config<LD::Vertex_based_representation, LD::Uniform_weights, LD::Scaled_rotation_transform>,
+  Config<LD::Vertex_based_representation, LD::Cotangent_weights, LD::Fixed_transform>,
+  Config<LD::Vertex_based_representation, LD::Cotangent_weights, LD::Scaled_rotation_transform>,
+  Config<LD::Edge_based_representation, LD::Uniform_weights, LD::Fixed_transform>,
+  Config<LD::Edge_based_representation, LD::Uniform_weights, LD::Scaled_rotation_transform>,
+  LD_TRANSFORMS(LD::Edge_based_representation, LD::Cotangent_weights)> All_combinations;
+#else
 typedef ::testing::Types<
   LD_TRANSFORMS(LD::Vertex_based_representation, LD::Uniform_weights),
   LD_TRANSFORMS(LD::Vertex_based_representation, LD::Cotangent_weights),
   LD_TRANSFORMS(LD::Edge_based_representation, LD::Uniform_weights),
   LD_TRANSFORMS(LD::Edge_based_representation, LD::Cotangent_weights)> All_combinations;
+#endif
 #undef LD_TRANSFORMS
 TYPED_TEST_SUITE(EveryCombination, All_combinations);
 
@@ -215,11 +229,19 @@ class RotationBased : public ::testing::Test {};
   Config<R, W, LD::Rotation_transform>, Config<R, W, LD::Similarity_transform>,                           \
   Config<R, W, LD::Scaled_rotation_transform>, Config<R, W, LD::Principal_scaled_rotation_transform>,     \
   Config<R, W, LD::Rotation_scale_rotation_transform>, Config<R, W, LD::Anchored_scaled_rotation_transform>
+#ifdef LAPLACIAN_DEFORMATION_TEST_FEWER_COMBINATIONS   // as All_combinations above
+typedef ::testing::Types<
+  Config<LD::Vertex_based_representation, LD::Uniform_weights, LD::Scaled_rotation_transform>,
+  Config<LD::Vertex_based_representation, LD::Cotangent_weights, LD::Scaled_rotation_transform>,
+  Config<LD::Edge_based_representation, LD::Uniform_weights, LD::Scaled_rotation_transform>,
+  LD_ROTATION_BASED(LD::Edge_based_representation, LD::Cotangent_weights)> Rotation_based_combinations;
+#else
 typedef ::testing::Types<
   LD_ROTATION_BASED(LD::Vertex_based_representation, LD::Uniform_weights),
   LD_ROTATION_BASED(LD::Vertex_based_representation, LD::Cotangent_weights),
   LD_ROTATION_BASED(LD::Edge_based_representation, LD::Uniform_weights),
   LD_ROTATION_BASED(LD::Edge_based_representation, LD::Cotangent_weights)> Rotation_based_combinations;
+#endif
 #undef LD_ROTATION_BASED
 TYPED_TEST_SUITE(RotationBased, Rotation_based_combinations);
 

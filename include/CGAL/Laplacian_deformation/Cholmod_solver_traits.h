@@ -28,7 +28,8 @@ CHOLMOD's supernodal factor, supernode by supernode, without BLAS calls (OpenBLA
 idle while the transforms are fitted on \tbb's threads). For three right-hand sides (the
 deformation's x, y, z) the columns are kept interleaved, every value of the factor is read once per
 substitution, and, with \tbb, disjoint subtrees of the supernodal elimination tree are substituted
-on several threads (`set_parallel()`): the result does not depend on the threads' timing, and
+on several threads (`set_parallel()`), level after level of the tree, the last supernodes (the top)
+on one thread: the result does not depend on the threads' timing, and
 differs from the sequential one only by round-off (the updates that several subtrees send to the
 same ancestor are summed in another order). Other numbers of columns go through one supernode at a
 time with \eigen's matrix-vector kernels. Both compute CHOLMOD's solution up to round-off.
@@ -141,6 +142,9 @@ public:
   /// the number of groups of subtrees of the elimination tree that the last three-column solve
   /// substituted concurrently (1: sequential)
   std::size_t number_of_parallel_groups() const { return m_parallel_groups; }
+  /// the number of levels of concurrent subtrees of the last three-column solve (0: sequential;
+  /// each level ends with a barrier, see `solve_columns()`)
+  std::size_t number_of_parallel_levels() const { return m_parallel_groups > 1 ? m_schedule.number_of_levels() : 0; }
   /// the share of the factor's values that the last three-column solve substituted on one thread
   /// (the supernodes above the concurrent subtrees; 1 when sequential)
   double sequential_share() const { return m_parallel_groups > 1 ? m_schedule.sequential_share() : 1.; }

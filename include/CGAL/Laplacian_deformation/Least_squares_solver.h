@@ -193,7 +193,9 @@ private:
   // matrices have no move assignment: a plain assignment copies)
   static void set_matrix(CGAL::Eigen_sparse_matrix<double>& m, Eigen::SparseMatrix<double>& n)
   {
-    CGAL::Eigen_sparse_matrix<double> fresh;
+    // constructed from an (empty) Eigen matrix: every member set (the default constructor of
+    // CGAL 5.5's Eigen_sparse_matrix leaves its symmetry flag uninitialised, which swap() reads)
+    CGAL::Eigen_sparse_matrix<double> fresh{Eigen::SparseMatrix<double>()};
     fresh.eigen_object().swap(n);
     m.swap(fresh);
   }
@@ -282,7 +284,7 @@ private:
   }
 
   Eigen::SparseMatrix<double> m_a;
-  Matrix m_matrix;
+  Matrix m_matrix{Eigen::SparseMatrix<double>()};   // not default-constructed: see set_matrix()
   std::vector<int> m_pattern_outer, m_pattern_inner;   // the pattern of the last analysed N
   Eigen::Index m_pattern_size = -1;
   bool m_analysed = false;

@@ -14,10 +14,14 @@
 // The supernodes are in a topological order of the supernodal elimination tree (children before
 // parents), and in CHOLMOD's postordered factors every subtree is a contiguous range of them. The
 // schedule cuts the tree into disjoint subtrees of about equal work, handed out to a fixed number of
-// bins; the bins run on TBB's threads, the supernodes above them (the top) run alone. In the
-// forward substitution a bin writes the updates its subtrees send to the top into a buffer of its
-// own, summed in bin order afterwards (the result does not depend on the threads' timing); in the
-// backward substitution the top is done first, and each subtree reads only its ancestors.
+// bins; the bins run on TBB's threads. The supernodes above them are cut again the same way, level
+// after level (a nested-dissection factor holds about the same share of its values on every level
+// of separators, so one level of subtrees would leave a large top to one thread), until what
+// remains (the top) is too small to pay for another barrier; the top runs alone. In the forward
+// substitution a bin writes the updates its subtrees send to later levels into a buffer of its
+// own, summed in bin order after its level (the result does not depend on the threads' timing); in
+// the backward substitution the top is done first, then the levels in reverse order, and each
+// subtree reads only its ancestors.
 
 #include <CGAL/Laplacian_deformation/internal/batched_transforms.h>
 #include <CGAL/Laplacian_deformation/internal/parallel.h>
@@ -189,10 +193,8 @@ public:
   // (every subtree contiguous) gets a sequential schedule
   void build(const Supernodal_factor_view& l, int bins)
   {
-    m_bins.clear();
+    m_levels.clear();
     m_top.clear();
-    m_top_index.assign(std::size_t(l.n), -1);
-    m_top_columns = 0;
     m_n = l.n;
     m_nsuper = l.nsuper;
     const int ns = l.nsuper;
@@ -202,14 +204,14 @@ public:
       for(int c = l.super[s]; c < l.super[s + 1]; ++c)
         column_super[std::size_t(c)] = s;
     std::vector<int> parent(nsn, -1), first(nsn), size(nsn, 1);
-    std::vector<double> work(nsn);
+    std::vector<double> own(nsn);    // the work of a supernode: values read, and a fixed cost
     double total = 0;
     bool postordered = true;
     for(int s = 0; s < ns; ++s)
     {
       const int nc = l.super[s + 1] - l.super[s], nr = l.pi[s + 1] - l.pi[s];
-      work[std::size_t(s)] = double(nr) * double(nc) + 8.;   // values read, and a fixed cost
-      total += work[std::size_t(s)];
+      own[std::size_t(s)] = double(nr) * double(nc) + 8.;
+      total += own[std::size_t(s)];
       first[std::size_t(s)] = s;
       int lowest = l.n;
       for(int k = l.pi[s] + nc; k < l.pi[s + 1]; ++k)
@@ -221,83 +223,132 @@ public:
         parent[std::size_t(s)] = p;
       }
     }
-    for(int s = 0; postordered && s < ns; ++s)   // children before parents: sizes and work bottom-up
+    for(int s = 0; postordered && s < ns; ++s)   // children before parents: the subtree of s is [first, s]
     {
       const int p = parent[std::size_t(s)];
-      postordered = first[std::size_t(s)] == s + 1 - size[std::size_t(s)];   // the subtree is [first, s]
+      postordered = first[std::size_t(s)] == s + 1 - size[std::size_t(s)];
       if(p >= 0)
       {
         first[std::size_t(p)] = (std::min)(first[std::size_t(p)], first[std::size_t(s)]);
         size[std::size_t(p)] += size[std::size_t(s)];
-        work[std::size_t(p)] += work[std::size_t(s)];
       }
     }
     m_sequential_share = 1.;
-    if(!postordered || bins < 2 || ns < 2)
+    std::vector<char> remaining(nsn, 1);   // not yet in a level
+    if(postordered && bins >= 2 && ns >= 2)
     {
+      std::vector<std::vector<int>> children(nsn);
       for(int s = 0; s < ns; ++s)
-        m_top.push_back(s);
-      return;
+        if(parent[std::size_t(s)] >= 0)
+          children[std::size_t(parent[std::size_t(s)])].push_back(s);
+      double left = total;
+      std::vector<double> work(nsn);
+      // Level after level: the remaining tree is cut into subtrees, the heaviest split until
+      // none holds more than left / (4 bins) (left / (2 bins) above the first level, where the
+      // subtrees are few and large), then packed into the bins. A level ends with a barrier; the
+      // supernodes above its subtrees are left to the next level, until too few remain.
+      for(int level = 0; level < 8; ++level)
+      {
+        for(int s = 0; s < ns; ++s)   // subtree work within the remaining tree, children first
+          if(remaining[std::size_t(s)])
+          {
+            work[std::size_t(s)] = own[std::size_t(s)];
+            for(int c : children[std::size_t(s)])
+              if(remaining[std::size_t(c)])
+                work[std::size_t(s)] += work[std::size_t(c)];
+          }
+        std::priority_queue<std::pair<double, int>> heap;
+        for(int s = 0; s < ns; ++s)
+          if(remaining[std::size_t(s)] && parent[std::size_t(s)] < 0)
+            heap.push({work[std::size_t(s)], s});
+        const double limit = left / ((level == 0 ? 4. : 1.) * bins);
+        while(!heap.empty() && heap.top().first > limit)
+        {
+          const int s = heap.top().second;
+          heap.pop();
+          for(int c : children[std::size_t(s)])
+            if(remaining[std::size_t(c)])
+              heap.push({work[std::size_t(c)], c});
+        }
+        std::vector<std::pair<double, int>> subtrees;
+        double taken = 0;
+        while(!heap.empty())
+        {
+          subtrees.push_back(heap.top());
+          taken += heap.top().first;
+          heap.pop();
+        }
+        if(subtrees.size() < 2 || taken < 0.005 * total)
+          break;                                     // nothing left worth a barrier
+        std::sort(subtrees.begin(), subtrees.end(),  // heaviest first, each to the lightest bin
+                  [](const std::pair<double, int>& a, const std::pair<double, int>& b) {
+                    return a.first > b.first || (a.first == b.first && a.second < b.second);
+                  });
+        Level lv;
+        lv.bins.assign(std::size_t(bins), Bin());
+        std::vector<double> load(std::size_t(bins), 0.);
+        auto roots = std::vector<std::vector<int>>(std::size_t(bins));
+        for(const auto& t : subtrees)
+        {
+          const std::size_t b = std::size_t(std::min_element(load.begin(), load.end()) - load.begin());
+          load[b] += t.first;
+          roots[b].push_back(t.second);
+        }
+        for(std::size_t b = 0; b < roots.size(); ++b)
+        {
+          std::sort(roots[b].begin(), roots[b].end());
+          Bin& bin = lv.bins[b];
+          for(int t : roots[b])
+          {
+            bin.start.push_back(int(bin.supernodes.size()));
+            for(int s = first[std::size_t(t)]; s <= t; ++s)   // the remaining ones, increasing
+              if(remaining[std::size_t(s)])
+              {
+                bin.supernodes.push_back(s);
+                remaining[std::size_t(s)] = 0;
+                bin.max_rows = (std::max)(bin.max_rows, std::size_t(l.pi[s + 1] - l.pi[s]));
+              }
+            bin.column_end.push_back(l.super[t + 1]);
+          }
+          bin.start.push_back(int(bin.supernodes.size()));
+        }
+        lv.bins.erase(std::remove_if(lv.bins.begin(), lv.bins.end(),
+                                     [](const Bin& b) { return b.supernodes.empty(); }),
+                      lv.bins.end());
+        // the columns still to come, each with its index in the bins' buffers
+        lv.later_index.assign(nn, -1);
+        for(int s = 0; s < ns; ++s)
+          if(remaining[std::size_t(s)])
+            for(int c = l.super[s]; c < l.super[s + 1]; ++c)
+            {
+              lv.later_index[std::size_t(c)] = int(lv.later_columns.size());
+              lv.later_columns.push_back(c);
+            }
+        m_levels.push_back(std::move(lv));
+        left -= taken;
+      }
     }
-    // split the heaviest subtree until every subtree is at most total / (4 bins)
-    std::vector<std::vector<int>> children(nsn);
-    std::priority_queue<std::pair<double, int>> heap;
-    for(int s = 0; s < ns; ++s)
-      if(parent[std::size_t(s)] >= 0)
-        children[std::size_t(parent[std::size_t(s)])].push_back(s);
-      else
-        heap.push({work[std::size_t(s)], s});
-    std::vector<char> is_top(nsn, 0);
-    const double limit = total / (4. * bins);
-    while(!heap.empty() && heap.top().first > limit)
-    {
-      const int s = heap.top().second;
-      heap.pop();
-      is_top[std::size_t(s)] = 1;
-      for(int c : children[std::size_t(s)])
-        heap.push({work[std::size_t(c)], c});
-    }
-    // the remaining subtrees, heaviest first, each to the lightest bin (deterministic)
-    std::vector<std::pair<double, int>> subtrees;
-    while(!heap.empty())
-    {
-      subtrees.push_back(heap.top());
-      heap.pop();
-    }
-    std::sort(subtrees.begin(), subtrees.end(),
-              [](const std::pair<double, int>& a, const std::pair<double, int>& b) {
-                return a.first > b.first || (a.first == b.first && a.second < b.second);
-              });
-    m_bins.assign(std::size_t(bins), Bin());
-    std::vector<double> load(std::size_t(bins), 0.);
-    for(const auto& t : subtrees)
-    {
-      const std::size_t b = std::size_t(std::min_element(load.begin(), load.end()) - load.begin());
-      load[b] += t.first;
-      m_bins[b].subtrees.push_back({first[std::size_t(t.second)], t.second});
-    }
-    for(Bin& bin : m_bins)
-    {
-      std::sort(bin.subtrees.begin(), bin.subtrees.end());
-      for(const auto& t : bin.subtrees)
-        bin.column_end.push_back(l.super[t.second + 1]);
-    }
-    m_bins.erase(std::remove_if(m_bins.begin(), m_bins.end(), [](const Bin& b) { return b.subtrees.empty(); }),
-                 m_bins.end());
     double top_work = 0;
     for(int s = 0; s < ns; ++s)
-      if(is_top[std::size_t(s)])
+      if(remaining[std::size_t(s)])
       {
         top_work += double(l.pi[s + 1] - l.pi[s]) * double(l.super[s + 1] - l.super[s]);
         m_top.push_back(s);
-        for(int c = l.super[s]; c < l.super[s + 1]; ++c)
-          m_top_index[std::size_t(c)] = m_top_columns++;
       }
-    m_sequential_share = total > 0 ? top_work / total : 1.;
+    m_sequential_share = m_levels.empty() ? 1. : (total > 0 ? top_work / total : 1.);
   }
 
   bool matches(const Supernodal_factor_view& l) const { return m_n == l.n && m_nsuper == l.nsuper; }
-  std::size_t number_of_bins() const { return m_bins.size(); }
+  // the largest number of bins of a level (1: sequential)
+  std::size_t number_of_bins() const
+  {
+    std::size_t b = 1;
+    for(const Level& lv : m_levels)
+      b = (std::max)(b, lv.bins.size());
+    return b;
+  }
+  // the number of levels that run in parallel (each ends with a barrier)
+  std::size_t number_of_levels() const { return m_levels.size(); }
   // the share of the factor's values in the supernodes substituted by one thread (the top)
   double sequential_share() const { return m_sequential_share; }
 
@@ -312,28 +363,36 @@ public:
 private:
   struct Bin
   {
-    std::vector<std::pair<int, int>> subtrees;   // [first, last] supernodes, increasing
-    std::vector<int> column_end;                 // per subtree: one past its last column
+    std::vector<int> supernodes;   // subtree after subtree, each increasing
+    std::vector<int> start;        // per subtree: its first position in supernodes (and the end)
+    std::vector<int> column_end;   // per subtree: one past the column of its root
+    std::size_t max_rows = 0;
+  };
+  struct Level
+  {
+    std::vector<Bin> bins;
+    std::vector<int> later_index;     // per column: its index among the later levels' columns, or -1
+    std::vector<int> later_columns;   // those columns, increasing
   };
   struct Workspace
   {
-    std::vector<double> w, top;
+    std::vector<double> w, later;
   };
 
-  // the bins in parallel (or in order), each with its workspace
+  // f(b) for the bins of a level, in parallel (or in order)
   template <class F>
-  void for_each_bin(bool parallel, const F& f) const
+  void for_each_bin(const Level& lv, bool parallel, const F& f) const
   {
 #ifdef CGAL_LINKED_WITH_TBB
-    if(parallel && m_bins.size() > 1)
+    if(parallel && lv.bins.size() > 1)
     {
-      tbb::parallel_for(std::size_t(0), m_bins.size(), [&](std::size_t b) { f(b); }, tbb::simple_partitioner());
+      tbb::parallel_for(std::size_t(0), lv.bins.size(), [&](std::size_t b) { f(b); }, tbb::simple_partitioner());
       return;
     }
 #else
     (void)parallel;
 #endif
-    for(std::size_t b = 0; b < m_bins.size(); ++b)
+    for(std::size_t b = 0; b < lv.bins.size(); ++b)
       f(b);
   }
 
@@ -347,61 +406,66 @@ private:
 
   void forward(const Supernodal_factor_view& l, double* y, bool parallel) const
   {
-    m_workspaces.resize((std::max)(m_bins.size(), std::size_t(1)));
-    for_each_bin(parallel, [&](std::size_t b) {
-      const Bin& bin = m_bins[b];
-      Workspace& ws = m_workspaces[b];
-      ws.top.assign(3 * std::size_t(m_top_columns), 0.);
-      for(std::size_t t = 0; t < bin.subtrees.size(); ++t)
+    std::size_t most = 1;
+    for(const Level& lv : m_levels)
+      most = (std::max)(most, lv.bins.size());
+    m_workspaces.resize(most);
+    for(const Level& lv : m_levels)
+    {
+      for_each_bin(lv, parallel, [&](std::size_t b) {
+        const Bin& bin = lv.bins[b];
+        Workspace& ws = m_workspaces[b];
+        ws.later.assign(3 * lv.later_columns.size(), 0.);
+        ws.w.resize(3 * bin.max_rows);
+        for(std::size_t t = 0; t + 1 < bin.start.size(); ++t)
+          for(int k = bin.start[t]; k < bin.start[t + 1]; ++k)
+            forward_supernode(l, bin.supernodes[std::size_t(k)], y, ws.w.data(), bin.column_end[t],
+                              lv.later_index.data(), ws.later.data());
+      });
+      for(std::size_t b = 0; b < lv.bins.size(); ++b)   // the updates sent to later levels, in bin order
       {
-        ws.w.resize(3 * max_rows(l, bin.subtrees[t].first, bin.subtrees[t].second));
-        for(int s = bin.subtrees[t].first; s <= bin.subtrees[t].second; ++s)
-          forward_supernode(l, s, y, ws.w.data(), bin.column_end[t], ws.top.data());
-      }
-    });
-    for(std::size_t b = 0; b < m_bins.size(); ++b)   // the updates sent to the top, in bin order
-      for(std::size_t s : m_top)
-        for(int c = l.super[s]; c < l.super[s + 1]; ++c)
+        const double* u = m_workspaces[b].later.data();
+        for(int c : lv.later_columns)
         {
-          const double* u = m_workspaces[b].top.data() + 3 * std::size_t(m_top_index[std::size_t(c)]);
           double* yc = y + 3 * std::size_t(c);
           yc[0] -= u[0];
           yc[1] -= u[1];
           yc[2] -= u[2];
+          u += 3;
         }
+      }
+    }
     Workspace& ws = m_workspaces[0];
     ws.w.resize(3 * max_rows(l, 0, l.nsuper - 1));
     for(int s : m_top)
-      forward_supernode(l, s, y, ws.w.data(), l.n, nullptr);
+      forward_supernode(l, s, y, ws.w.data(), l.n, nullptr, nullptr);
   }
 
   void backward(const Supernodal_factor_view& l, double* y, bool parallel) const
   {
-    m_workspaces.resize((std::max)(m_bins.size(), std::size_t(1)));
     {
       Workspace& ws = m_workspaces[0];
       ws.w.resize(3 * max_rows(l, 0, l.nsuper - 1));
       for(auto s = m_top.rbegin(); s != m_top.rend(); ++s)
         backward_supernode(l, *s, y, ws.w.data());
     }
-    for_each_bin(parallel, [&](std::size_t b) {
-      const Bin& bin = m_bins[b];
-      Workspace& ws = m_workspaces[b];
-      for(std::size_t t = bin.subtrees.size(); t-- > 0;)
-      {
-        ws.w.resize(3 * max_rows(l, bin.subtrees[t].first, bin.subtrees[t].second));
-        for(int s = bin.subtrees[t].second; s >= bin.subtrees[t].first; --s)
-          backward_supernode(l, s, y, ws.w.data());
-      }
-    });
+    for(auto lv = m_levels.rbegin(); lv != m_levels.rend(); ++lv)
+      for_each_bin(*lv, parallel, [&](std::size_t b) {
+        const Bin& bin = lv->bins[b];
+        Workspace& ws = m_workspaces[b];
+        ws.w.resize(3 * bin.max_rows);
+        for(std::size_t k = bin.supernodes.size(); k-- > 0;)   // parents before children
+          backward_supernode(l, bin.supernodes[k], y, ws.w.data());
+      });
   }
 
   // the supernode's rows as three arrays z (of nr) in `w`, swept column by column: z[j] /= L(j,j),
   // then z[j+1..nr) -= L(j+1..nr, j) z[j]. The rows below the block hold minus the update they send
-  // (added to y for the rows < `column_end`, the running subtree; subtracted from `top`, the bin's
-  // buffer of the top's columns, for the others; `top` null: everything to y)
+  // (added to y for the rows < `column_end`, the running subtree; subtracted from `later`, the bin's
+  // buffer of the later levels' columns (index `later_index`), for the others; `later` null:
+  // everything to y)
   void forward_supernode(const Supernodal_factor_view& l, int s, double* y, double* w, int column_end,
-                         double* top) const
+                         const int* later_index, double* later) const
   {
     const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s];
     const double* block = l.values + l.px[s];
@@ -436,7 +500,7 @@ private:
     }
     const int* r = l.rows + l.pi[s];
     for(int i = nc; i < nr; ++i)
-      if(top == nullptr || r[i] < column_end)
+      if(later == nullptr || r[i] < column_end)
       {
         double* t = y + 3 * std::size_t(r[i]);
         t[0] += z0[i];
@@ -445,7 +509,7 @@ private:
       }
       else
       {
-        double* t = top + 3 * std::size_t(m_top_index[std::size_t(r[i])]);
+        double* t = later + 3 * std::size_t(later_index[std::size_t(r[i])]);
         t[0] -= z0[i];
         t[1] -= z1[i];
         t[2] -= z2[i];
@@ -497,10 +561,9 @@ private:
     }
   }
 
-  std::vector<Bin> m_bins;
-  std::vector<int> m_top;         // the supernodes above the bins' subtrees, increasing
-  std::vector<int> m_top_index;   // per column: its index among the top's columns, or -1
-  int m_top_columns = 0, m_n = -1, m_nsuper = -1;
+  std::vector<Level> m_levels;
+  std::vector<int> m_top;         // the supernodes above the levels' subtrees, increasing
+  int m_n = -1, m_nsuper = -1;
   double m_sequential_share = 1.;
   mutable std::vector<Workspace> m_workspaces;
   mutable supernodal_kernels::Kernels m_kernels;
