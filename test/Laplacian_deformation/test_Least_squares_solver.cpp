@@ -8,6 +8,7 @@
 #include <CGAL/Laplacian_deformation/Least_squares_solver.h>
 
 #include <CGAL/Laplacian_deformation/internal/normal_matrix.h>
+#include <CGAL/Laplacian_deformation/internal/huge_pages.h>
 
 #include <gtest/gtest.h>
 
@@ -111,6 +112,42 @@ std::size_t Archetype_factor_traits::number_of_factor_calls = 0;
 std::size_t Archetype_factor_traits::number_of_linear_solver_calls = 0;
 
 // ---------------------------------------------------------------------------------------------
+
+// the huge-page helpers change where memory comes from, never what is in it: the transpose that
+// factor() forms is Eigen's bitwise (same order of entries), the vector helpers are reserve/assign
+TEST(HugePages, HelpersKeepTheValues)
+{
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1., 1.);
+  for(int rows : {1, 37, 3000})
+  {
+    Eigen::SparseMatrix<double> a(rows, 257);
+    std::vector<Eigen::Triplet<double>> t;
+    for(int k = 0; k < 20 * rows; ++k)
+      t.emplace_back(int(rng() % unsigned(rows)), int(rng() % 257u), u(rng));
+    a.setFromTriplets(t.begin(), t.end());
+    a.makeCompressed();
+    const Eigen::SparseMatrix<double> expected = a.transpose();
+    const Eigen::SparseMatrix<double> at = LD::internal::transposed_advised(a);
+    ASSERT_TRUE(at.isCompressed());
+    ASSERT_EQ(at.rows(), expected.rows());
+    ASSERT_EQ(at.cols(), expected.cols());
+    ASSERT_EQ(at.nonZeros(), expected.nonZeros());
+    EXPECT_TRUE(std::equal(at.outerIndexPtr(), at.outerIndexPtr() + at.cols() + 1, expected.outerIndexPtr()));
+    EXPECT_TRUE(std::equal(at.innerIndexPtr(), at.innerIndexPtr() + at.nonZeros(), expected.innerIndexPtr()));
+    EXPECT_TRUE(std::equal(at.valuePtr(), at.valuePtr() + at.nonZeros(), expected.valuePtr()));
+  }
+  EXPECT_FALSE(LD::internal::advise_huge_pages(nullptr, std::size_t(64) << 20));
+  std::vector<double> small(100);
+  EXPECT_FALSE(LD::internal::advise_huge_pages(small.data(), small.size() * sizeof(double))) << "below 4 MiB";
+  std::vector<double> v{1., 2.};
+  LD::internal::reserve_huge(v, std::size_t(1) << 20);     // not empty: kept as it is
+  EXPECT_EQ(v, (std::vector<double>{1., 2.}));
+  EXPECT_GE(v.capacity(), std::size_t(1) << 20);
+  LD::internal::assign_huge(v, std::size_t(1) << 20, 3.);
+  EXPECT_EQ(v.size(), std::size_t(1) << 20);
+  EXPECT_TRUE(std::all_of(v.begin(), v.end(), [](double x) { return x == 3.; }));
+}
 
 TEST(LeastSquaresSolver, MatchesDenseQR)
 {

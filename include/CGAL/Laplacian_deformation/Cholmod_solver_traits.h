@@ -8,6 +8,7 @@
 // Needs SuiteSparse's CHOLMOD: link the CMake target CGAL::Laplacian_deformation_cholmod.
 #include <CGAL/Eigen_solver_traits.h>
 #include <CGAL/Laplacian_deformation/internal/normal_matrix.h>
+#include <CGAL/Laplacian_deformation/internal/huge_pages.h>
 #include <CGAL/Laplacian_deformation/internal/supernodal_solve.h>
 
 #include <Eigen/CholmodSupport>
@@ -18,6 +19,33 @@
 
 namespace CGAL {
 namespace Laplacian_deformation {
+namespace internal {
+
+// Once per process: SuiteSparse's allocation functions (used by CHOLMOD for its factor) replaced by
+// the C library's with a transparent-huge-page advice for large blocks (internal/huge_pages.h), as
+// long as they are still the C library's own (a user's allocator is kept). Returns whether they are.
+inline bool use_huge_pages_in_suitesparse()
+{
+#if CGAL_LAPDEF_HUGE_PAGES && defined(SUITESPARSE_MAIN_VERSION) && SUITESPARSE_MAIN_VERSION < 7
+  static const bool installed = [] {
+    if(!huge_pages_enabled())
+      return false;
+    SuiteSparse_config_struct& c = SuiteSparse_config;
+    if(c.malloc_func != &std::malloc || c.calloc_func != &std::calloc || c.realloc_func != &std::realloc ||
+       c.free_func != &std::free)
+      return false;
+    c.malloc_func = &huge_malloc;
+    c.calloc_func = &huge_calloc;
+    c.realloc_func = &huge_realloc;
+    return true;
+  }();
+  return installed;
+#else
+  return false;
+#endif
+}
+
+} // namespace internal
 
 /*!
 \ingroup PkgLaplacianDeformationSolver
@@ -34,12 +62,23 @@ differs from the sequential one only by round-off (the updates that several subt
 same ancestor are summed in another order). Other numbers of columns go through one supernode at a
 time with \eigen's matrix-vector kernels. Both compute CHOLMOD's solution up to round-off.
 Everything else (`compute()`, `solve()`, `info()`, `cholmod()`) is `Eigen::CholmodSupernodalLLT`'s.
+
+On Linux with SuiteSparse 5 or 6, the first construction sets SuiteSparse's allocation functions
+(`SuiteSparse_config`, process-wide) to the C library's `malloc`, `calloc` and `realloc` followed
+by `madvise(MADV_HUGEPAGE)` on blocks of 4 MiB and more, so that the factor's pages are faulted in
+2 MiB at a time where the kernel offers transparent huge pages; `free` stays the C library's, and
+allocation functions that are not the C library's (a user's own) are left alone. The environment
+variable `CGAL_LAPLACIAN_DEFORMATION_HUGE_PAGES=0` or the macro
+`CGAL_LAPLACIAN_DEFORMATION_NO_HUGE_PAGES` turns this off.
 */
 class Cholmod_supernodal_llt
   : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>
 {
 public:
   typedef Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> Base;
+
+  /// as the base class (and see above for SuiteSparse's allocation functions)
+  Cholmod_supernodal_llt() { internal::use_huge_pages_in_suitesparse(); }
 
   /// analyses the pattern of `matrix` (as the base class; also forgets the parallel schedule of
   /// the previous factor's substitutions)

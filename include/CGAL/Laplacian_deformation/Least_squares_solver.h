@@ -121,7 +121,7 @@ public:
     {
       Eigen::SparseMatrix<double> n;
       {
-        const Eigen::SparseMatrix<double> at = m_a.transpose();
+        const Eigen::SparseMatrix<double> at = internal::transposed_advised(m_a);
         // only the lower triangle when the traits read no more of it (Cholesky factorisations)
         n = internal::normal_matrix(m_a, at, internal::Solver_traits_read_lower_triangle<Solver_traits>::value,
                                     internal::runs_in_parallel<ConcurrencyTag>());

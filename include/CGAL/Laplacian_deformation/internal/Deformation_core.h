@@ -5,6 +5,7 @@
 #ifndef CGAL_LAPLACIAN_DEFORMATION_INTERNAL_DEFORMATION_CORE_H
 #define CGAL_LAPLACIAN_DEFORMATION_INTERNAL_DEFORMATION_CORE_H
 
+#include <CGAL/Laplacian_deformation/internal/huge_pages.h>
 #include <CGAL/Laplacian_deformation/Deformation_result.h>
 #include <CGAL/Laplacian_deformation/Least_squares_solver.h>
 #include <CGAL/Laplacian_deformation/Node_cell.h>
@@ -133,8 +134,10 @@ public:
     std::partial_sum(k_outer.begin(), k_outer.end(), k_outer.begin());
     m_a.resize(nr + Eigen::Index(m_soft.size()), nu);
     m_a.resizeNonZeros(a_outer.back());
+    advise_sparse_storage(m_a);
     m_known.resize(nr, Eigen::Index(n));
     m_known.resizeNonZeros(k_outer.back());
+    advise_sparse_storage(m_known);
     std::copy(a_outer.begin(), a_outer.end(), m_a.outerIndexPtr());
     std::copy(k_outer.begin(), k_outer.end(), m_known.outerIndexPtr());
 
@@ -271,8 +274,8 @@ public:
     for(std::size_t a = 0; a < s.number_of_nodes; ++a)
       if(needed[a])
         m_needed_nodes.push_back(a);
-    m_node_positions.assign(s.number_of_nodes, Eigen::Vector3d::Zero());
-    m_transforms.assign(m_fit_nodes.size(), Eigen::Matrix3d::Identity());
+    assign_huge(m_node_positions, s.number_of_nodes, Eigen::Vector3d(Eigen::Vector3d::Zero()));
+    assign_huge(m_transforms, m_fit_nodes.size(), Eigen::Matrix3d(Eigen::Matrix3d::Identity()));
     m_known_vertices.clear();
     for(std::size_t v = 0; v < n; ++v)
       if(m_known.outerIndexPtr()[v + 1] > m_known.outerIndexPtr()[v])

@@ -5,6 +5,7 @@
 #ifndef CGAL_LAPLACIAN_DEFORMATION_INTERNAL_LAPLACIAN_STENCILS_H
 #define CGAL_LAPLACIAN_DEFORMATION_INTERNAL_LAPLACIAN_STENCILS_H
 
+#include <CGAL/Laplacian_deformation/internal/huge_pages.h>
 #include <CGAL/Laplacian_deformation/Node_cell.h>
 #include <CGAL/Laplacian_deformation/internal/parallel.h>
 #include <CGAL/Laplacian_deformation/internal/Policy_variant.h>
@@ -94,10 +95,10 @@ Laplacian_stencils build_stencils(const Nodes& nodes, std::size_t number_of_vert
   s.combination_start.reserve(s.number_of_nodes + 1);
   s.neighbor_start.reserve(s.number_of_nodes + 1);
   s.fan_start.reserve(s.number_of_nodes + 1);
-  s.combination_vertex.reserve(combination_size);
-  s.combination_coefficient.reserve(combination_size);
-  s.neighbor.reserve(neighbor_size);
-  s.fan.reserve(fan_size);
+  reserve_huge(s.combination_vertex, combination_size);
+  reserve_huge(s.combination_coefficient, combination_size);
+  reserve_huge(s.neighbor, neighbor_size);
+  reserve_huge(s.fan, fan_size);
   s.combination_start.push_back(0);
   s.neighbor_start.push_back(0);
   s.fan_start.push_back(0);
@@ -132,7 +133,7 @@ Laplacian_stencils build_stencils(const Nodes& nodes, std::size_t number_of_vert
     s.neighbor_start.push_back(s.neighbor.size());
     s.fan_start.push_back(s.fan.size());
   }
-  s.weight.assign(s.neighbor.size(), 0.);
+  assign_huge(s.weight, s.neighbor.size(), 0.);
   return s;
 }
 
@@ -297,8 +298,8 @@ inline Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_operator(const Lap
   std::vector<int> outer(s.number_of_nodes + 1, 0), inner;
   std::vector<double> values;
   std::vector<std::pair<std::size_t, double>> terms;
-  inner.reserve(4 * s.neighbor.size());
-  values.reserve(4 * s.neighbor.size());
+  reserve_huge(inner, 4 * s.neighbor.size());
+  reserve_huge(values, 4 * s.neighbor.size());
   for(std::size_t a = 0; a < s.number_of_nodes; ++a)
   {
     terms.clear();
@@ -336,9 +337,14 @@ inline Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_operator(const Lap
     }
     outer[a + 1] = int(inner.size());
   }
-  const Eigen::Map<const Row_major> d(Eigen::Index(s.number_of_nodes), Eigen::Index(s.number_of_vertices),
-                                      Eigen::Index(values.size()), outer.data(), inner.data(), values.data());
-  return Row_major(d);
+  // copied into a matrix of its exact size, whose fresh storage is advised before it is written
+  Row_major d(Eigen::Index(s.number_of_nodes), Eigen::Index(s.number_of_vertices));
+  d.resizeNonZeros(Eigen::Index(values.size()));
+  advise_sparse_storage(d);
+  std::copy(outer.begin(), outer.end(), d.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), d.innerIndexPtr());
+  std::copy(values.begin(), values.end(), d.valuePtr());
+  return d;
 }
 
 // delta = D p for the vertex positions `p`, row by row (no dense copy of `p`).

@@ -6,6 +6,7 @@
 #define CGAL_LAPLACIAN_DEFORMATION_INTERNAL_NORMAL_MATRIX_H
 
 #include <CGAL/Eigen_solver_traits.h>
+#include <CGAL/Laplacian_deformation/internal/huge_pages.h>
 #include <CGAL/Laplacian_deformation/internal/parallel.h>
 
 #include <Eigen/Core>
@@ -113,6 +114,7 @@ inline Eigen::SparseMatrix<double> normal_matrix(const Eigen::SparseMatrix<doubl
   for(Eigen::Index j = 0; j < n; ++j)
     outer[j + 1] += outer[j];
   result.resizeNonZeros(outer[n]);
+  advise_sparse_storage(result);   // fresh: not written yet
   Index* inner = result.innerIndexPtr();
   double* values = result.valuePtr();
   Per_thread<Workspace> per_thread(parallel);
