@@ -10,6 +10,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
+
 #include <Eigen/Core>
 #include <Eigen/QR>
 #include <Eigen/SparseCore>
@@ -218,3 +221,29 @@ TEST(CholmodSolverTraits, ReportsFailures)
 }
 
 } // namespace
+
+// On Linux with SuiteSparse 5, constructing the solver routes SuiteSparse's allocations through the
+// huge-page advice (the C library's functions with an madvise); free() stays the C library's, and
+// the factorisations above (which ran through it) are checked against CHOLMOD's own solve.
+TEST(CholmodSupernodalLlt, SuiteSparseAllocatesThroughTheHugePageAdvice)
+{
+  LD::Cholmod_supernodal_llt llt;
+  const bool installed = LD::internal::use_huge_pages_in_suitesparse();
+#if CGAL_LAPDEF_HUGE_PAGES && defined(SUITESPARSE_MAIN_VERSION) && SUITESPARSE_MAIN_VERSION == 5
+  EXPECT_EQ(installed, LD::internal::huge_pages_enabled());
+  if(installed)
+  {
+    EXPECT_TRUE(SuiteSparse_config.malloc_func == &LD::internal::huge_malloc);
+    EXPECT_TRUE(SuiteSparse_config.calloc_func == &LD::internal::huge_calloc);
+    EXPECT_TRUE(SuiteSparse_config.realloc_func == &LD::internal::huge_realloc);
+  }
+  EXPECT_TRUE(SuiteSparse_config.free_func == &std::free);
+#else
+  EXPECT_FALSE(installed);
+#endif
+  void* p = LD::internal::huge_calloc(std::size_t(1) << 20, 8);   // 8 MiB, zeroed
+  ASSERT_NE(p, nullptr);
+  const unsigned char* bytes = static_cast<const unsigned char*>(p);
+  EXPECT_TRUE(std::all_of(bytes, bytes + (std::size_t(8) << 20), [](unsigned char b) { return b == 0; }));
+  std::free(p);
+}

@@ -26,7 +26,7 @@ namespace internal {
 // long as they are still the C library's own (a user's allocator is kept). Returns whether they are.
 inline bool use_huge_pages_in_suitesparse()
 {
-#if CGAL_LAPDEF_HUGE_PAGES && defined(SUITESPARSE_MAIN_VERSION) && SUITESPARSE_MAIN_VERSION < 7
+#if CGAL_LAPDEF_HUGE_PAGES && defined(SUITESPARSE_MAIN_VERSION) && SUITESPARSE_MAIN_VERSION == 5
   static const bool installed = [] {
     if(!huge_pages_enabled())
       return false;
@@ -63,8 +63,9 @@ same ancestor are summed in another order). Other numbers of columns go through 
 time with \eigen's matrix-vector kernels. Both compute CHOLMOD's solution up to round-off.
 Everything else (`compute()`, `solve()`, `info()`, `cholmod()`) is `Eigen::CholmodSupernodalLLT`'s.
 
-On Linux with SuiteSparse 5 or 6, the first construction sets SuiteSparse's allocation functions
-(`SuiteSparse_config`, process-wide) to the C library's `malloc`, `calloc` and `realloc` followed
+On Linux with SuiteSparse 5 (Debian 12's; later versions are left alone), the first construction
+sets SuiteSparse's allocation functions (the global `SuiteSparse_config`, process-wide) to the C
+library's `malloc`, `calloc` and `realloc` followed
 by `madvise(MADV_HUGEPAGE)` on blocks of 4 MiB and more, so that the factor's pages are faulted in
 2 MiB at a time where the kernel offers transparent huge pages; `free` stays the C library's, and
 allocation functions that are not the C library's (a user's own) are left alone. The environment
