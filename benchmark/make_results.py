@@ -593,8 +593,10 @@ for level in lv:
             b.get('analyse_ms', 0), b.get('factorise_ms', b['factor_ms']), 100 * b['factor_ms'] / b['real_time'],
             b['real_time'] - b['factor_ms'])
         if first_touch and 'extra_mb' in b:
-            text += '; first touches of its %.0f MB of fresh memory alone cost about %.0f ms (%.2f ms/MB)' % (
-                b['extra_mb'], b['extra_mb'] * first_touch[0].get('ms_per_mb', 0), first_touch[0].get('ms_per_mb', 0))
+            text += ('; at the measured 4 KiB-page rate (%.2f ms/MB), the first touches of its %.0f MB of fresh memory '
+                     'would cost up to about %.0f ms (less where its large arrays got transparent huge pages)') % (
+                first_touch[0].get('ms_per_mb', 0),
+                b['extra_mb'], b['extra_mb'] * first_touch[0].get('ms_per_mb', 0))
         return text
 
     nan = float('nan')
