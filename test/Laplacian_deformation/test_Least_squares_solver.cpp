@@ -147,6 +147,26 @@ TEST(HugePages, HelpersKeepTheValues)
   LD::internal::assign_huge(v, std::size_t(1) << 20, 3.);
   EXPECT_EQ(v.size(), std::size_t(1) << 20);
   EXPECT_TRUE(std::all_of(v.begin(), v.end(), [](double x) { return x == 3.; }));
+  // resize_huge keeps the values (growing past the capacity moves them to fresh storage)
+  std::vector<double> w{4., 5., 6.};
+  LD::internal::resize_huge(w, std::size_t(1) << 20);
+  ASSERT_EQ(w.size(), std::size_t(1) << 20);
+  EXPECT_EQ(w[0], 4.);
+  EXPECT_EQ(w[1], 5.);
+  EXPECT_EQ(w[2], 6.);
+  EXPECT_EQ(w.back(), 0.);
+  LD::internal::resize_huge(w, 2);
+  EXPECT_EQ(w, (std::vector<double>{4., 5.}));
+  // resize_dense_huge: Eigen's resize (a same-sized resize keeps the values)
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> m;
+  LD::internal::resize_dense_huge(m, 200000, 3);
+  ASSERT_EQ(m.rows(), 200000);
+  ASSERT_EQ(m.cols(), 3);
+  m.setConstant(7.);
+  LD::internal::resize_dense_huge(m, 200000, 3);
+  EXPECT_TRUE((m.array() == 7.).all());
+  LD::internal::resize_dense_huge(m, 5, 3);
+  EXPECT_EQ(m.rows(), 5);
 }
 
 TEST(LeastSquaresSolver, MatchesDenseQR)

@@ -10,7 +10,11 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include <CGAL/property_map.h>
+
 #include <set>
+#include <stdexcept>
+#include <string>
 
 namespace LD = CGAL::Laplacian_deformation;
 using namespace Laplacian_deformation_test;
@@ -314,5 +318,37 @@ TYPED_TEST(LaplacianMatrix, RegionStencilsEqualWholeMeshRowsBitwise)
         }
       }
     });
+  }
+}
+
+// The stencils hold 32-bit indices; a mesh whose node count does not fit is refused with
+// std::length_error before anything proportional to it is allocated.
+namespace {
+struct Too_many_nodes
+{
+  typedef int node_descriptor;
+  typedef int vertex_descriptor;
+  std::size_t number_of_nodes() const { return std::size_t(1) << 33; }
+  std::size_t index(node_descriptor a) const { return std::size_t(a); }
+  std::vector<int> neighbors(node_descriptor) const { return {}; }
+  template <class F> void combination(node_descriptor a, F&& f) const { f(a, 1.); }
+  template <class F> void incident_nodes(vertex_descriptor v, F&& f) const { f(v); }
+  template <class F> void fan_triangles(node_descriptor, F&&) const {}
+};
+} // namespace
+
+TEST(LaplacianStencils, IndicesAre32BitAndOversizedMeshesAreRefused)
+{
+  static_assert(sizeof(CGAL::Laplacian_deformation::internal::Stencil_index) == 4, "32-bit stencil indices");
+  const std::vector<int> region{0, 1};
+  const CGAL::Identity_property_map<int> identity;
+  try
+  {
+    CGAL::Laplacian_deformation::internal::laplacian_stencils_near(Too_many_nodes(), 2, identity, region);
+    FAIL() << "no exception";
+  }
+  catch(const std::length_error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("32-bit"), std::string::npos) << e.what();
   }
 }

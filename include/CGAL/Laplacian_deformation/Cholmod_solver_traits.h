@@ -219,7 +219,8 @@ private:
       m_schedule_bins = bins;
       m_schedule_valid = true;
     }
-    m_interleaved.resize(3 * std::size_t(l.n));
+    // fresh at the first solve: advised for huge pages (first touches, see internal/huge_pages.h)
+    internal::resize_huge(m_interleaved, 3 * std::size_t(l.n));
     double* y = m_interleaved.data();
     for(int i = 0; i < l.n; ++i)   // y = P b
     {
@@ -230,7 +231,7 @@ private:
     }
     m_schedule.solve(l, y, parallel);
     m_parallel_groups = parallel ? (std::max)(std::size_t(1), m_schedule.number_of_bins()) : 1;
-    x.resize(l.n, 3);
+    internal::resize_dense_huge(x, l.n, 3);
     for(int i = 0; i < l.n; ++i)   // x = P^T y
     {
       const Eigen::Index k = perm ? perm[i] : i;

@@ -304,8 +304,9 @@ public:
     // b, rhs and x are kept across calls: the CLI and the editor call deform(1) per iteration
     Rows3& b = m_b;
     Eigen::MatrixX3d &rhs = m_rhs, &x = m_x;
-    b.resize(Eigen::Index(m_row_energy.size()), 3);
-    rhs.resize(nu, 3);
+    // fresh at the first call: advised for huge pages (first touches, see internal/huge_pages.h)
+    resize_dense_huge(b, Eigen::Index(m_row_energy.size()), 3);
+    resize_dense_huge(rhs, nu, 3);
     m_soft_targets.resize(m_soft.size());
     for(std::size_t k = 0; k < m_soft.size(); ++k)
     {

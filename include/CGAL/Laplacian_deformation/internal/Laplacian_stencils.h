@@ -18,7 +18,10 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <algorithm>
+#include <limits>
+#include <stdexcept>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -26,6 +29,12 @@
 namespace CGAL {
 namespace Laplacian_deformation {
 namespace internal {
+
+// The index type of the stencils' arrays: 32 bits (half the memory and cache traffic of
+// std::size_t in the local step's gathers). Every count fits: D's sparse storage (Eigen's int
+// indices) already limits a mesh to fewer than 2^31 operator entries, and build_stencils() checks
+// its own counts (std::length_error beyond 2^32 - 1).
+typedef std::uint32_t Stencil_index;
 
 // The flat (CSR) description of a representation on a mesh, in dense node and vertex indices.
 // It is the only thing the assembly, the transform fits and the solver ever see of a
@@ -35,12 +44,12 @@ struct Laplacian_stencils
   std::size_t number_of_nodes = 0;
   std::size_t number_of_vertices = 0;
   // x_a = sum_k combination_coefficient[k] p_{combination_vertex[k]}, k in [combination_start[a], combination_start[a+1])
-  std::vector<std::size_t> combination_start;
-  std::vector<std::size_t> combination_vertex;
+  std::vector<Stencil_index> combination_start;
+  std::vector<Stencil_index> combination_vertex;
   std::vector<double> combination_coefficient;
   // N(a) = neighbor[k], k in [neighbor_start[a], neighbor_start[a+1]); weight[k] = w_ab
-  std::vector<std::size_t> neighbor_start;
-  std::vector<std::size_t> neighbor;
+  std::vector<Stencil_index> neighbor_start;
+  std::vector<Stencil_index> neighbor;
   std::vector<double> weight;
   // fan triangles (x_a, x_b, x_c) as local positions of b and c in the neighbour slice of a (only
   // compute_weights() reads them; Mesh_deformer frees them afterwards)
@@ -49,7 +58,7 @@ struct Laplacian_stencils
 
   // the node index of each local node (increasing) when the stencils cover part of the mesh
   // (laplacian_stencils_near()); empty when local index = node index (every node)
-  std::vector<std::size_t> global_node;
+  std::vector<Stencil_index> global_node;
 
   std::size_t degree(std::size_t a) const { return neighbor_start[a + 1] - neighbor_start[a]; }
   std::size_t node_index(std::size_t a) const { return global_node.empty() ? a : global_node[a]; }
@@ -92,6 +101,10 @@ Laplacian_stencils build_stencils(const Nodes& nodes, std::size_t number_of_vert
     }
     nodes.fan_triangles(a, [&](node_descriptor, node_descriptor) { ++fan_size; });
   }
+  const std::size_t largest_index = (std::numeric_limits<Stencil_index>::max)();
+  if((std::max)({ sequence.size(), number_of_vertices, combination_size, neighbor_size }) > largest_index)
+    throw std::length_error("Laplacian_deformation: the mesh is too large for the stencils' 32-bit indices "
+                            "(more than 2^32 - 1 nodes, vertices or stencil entries)");
   s.combination_start.reserve(s.number_of_nodes + 1);
   s.neighbor_start.reserve(s.number_of_nodes + 1);
   s.fan_start.reserve(s.number_of_nodes + 1);
@@ -106,14 +119,14 @@ Laplacian_stencils build_stencils(const Nodes& nodes, std::size_t number_of_vert
   {
     const node_descriptor& a = sequence[i];
     nodes.combination(a, [&](auto v, double c) {
-      s.combination_vertex.push_back(static_cast<std::size_t>(get(vertex_index, v)));
+      s.combination_vertex.push_back(static_cast<Stencil_index>(get(vertex_index, v)));
       s.combination_coefficient.push_back(c);
     });
     if(is_row(i))
     {
       const std::size_t first = s.neighbor.size();
       for(node_descriptor b : nodes.neighbors(a))
-        s.neighbor.push_back(local_of(b));
+        s.neighbor.push_back(static_cast<Stencil_index>(local_of(b)));
       const std::size_t last = s.neighbor.size();
       auto local = [&](node_descriptor b) {
         const std::size_t ib = local_of(b);
@@ -129,8 +142,8 @@ Laplacian_stencils build_stencils(const Nodes& nodes, std::size_t number_of_vert
           s.fan.push_back(t);
       });
     }
-    s.combination_start.push_back(s.combination_vertex.size());
-    s.neighbor_start.push_back(s.neighbor.size());
+    s.combination_start.push_back(static_cast<Stencil_index>(s.combination_vertex.size()));
+    s.neighbor_start.push_back(static_cast<Stencil_index>(s.neighbor.size()));
     s.fan_start.push_back(s.fan.size());
   }
   assign_huge(s.weight, s.neighbor.size(), 0.);
@@ -167,6 +180,9 @@ Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t numbe
 {
   typedef typename Nodes::node_descriptor node_descriptor;
   typedef std::pair<std::size_t, node_descriptor> Entry;
+  if(nodes.number_of_nodes() > std::size_t((std::numeric_limits<Stencil_index>::max)()))
+    throw std::length_error("Laplacian_deformation: the mesh is too large for the stencils' 32-bit indices "
+                            "(more than 2^32 - 1 nodes)");
   // each node once (a byte per node of the mesh marks the nodes met): 1 for the rows (the
   // region's nodes and their neighbours), 2 for the rows' other neighbours
   std::vector<unsigned char> mark(nodes.number_of_nodes(), 0);
@@ -193,13 +209,13 @@ Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t numbe
   std::vector<char> is_row(all.size(), 0);
   std::vector<node_descriptor> sequence;
   sequence.reserve(all.size());
-  std::vector<std::size_t> global_node;
+  std::vector<Stencil_index> global_node;
   global_node.reserve(all.size());
   for(std::size_t i = 0; i < all.size(); ++i)
   {
     is_row[i] = mark[all[i].first] == 1;
     sequence.push_back(all[i].second);
-    global_node.push_back(all[i].first);
+    global_node.push_back(static_cast<Stencil_index>(all[i].first));
   }
   std::vector<Entry>().swap(all);
   std::vector<unsigned char>().swap(mark);
@@ -216,7 +232,7 @@ Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t numbe
     const std::size_t g = nodes.index(b);
     if(!table.empty())
       return table[g];
-    return std::size_t(std::lower_bound(global_node.begin(), global_node.end(), g) - global_node.begin());
+    return std::size_t(std::lower_bound(global_node.begin(), global_node.end(), Stencil_index(g)) - global_node.begin());
   };
   Laplacian_stencils s = build_stencils(nodes, number_of_vertices, vertex_index, sequence,
                                         [&is_row](std::size_t i) { return is_row[i] != 0; }, local_of);
@@ -228,7 +244,7 @@ Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t numbe
 inline void node_positions(const Laplacian_stencils& s, const std::vector<Eigen::Vector3d>& vertex_positions,
                            std::vector<Eigen::Vector3d>& x)
 {
-  x.assign(s.number_of_nodes, Eigen::Vector3d::Zero());
+  assign_huge(x, s.number_of_nodes, Eigen::Vector3d(Eigen::Vector3d::Zero()));
   for(std::size_t a = 0; a < s.number_of_nodes; ++a)
     for(std::size_t k = s.combination_start[a]; k < s.combination_start[a + 1]; ++k)
       x[a] += s.combination_coefficient[k] * vertex_positions[s.combination_vertex[k]];

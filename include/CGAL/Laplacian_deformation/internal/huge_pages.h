@@ -93,6 +93,32 @@ void assign_huge(std::vector<T, A>& v, std::size_t n, const T& value)
   v.assign(n, value);
 }
 
+// v.resize(n) with the storage advised first when it is fresh (the values are kept as resize()
+// keeps them)
+template <class T, class A>
+void resize_huge(std::vector<T, A>& v, std::size_t n)
+{
+  if(v.capacity() < n)
+  {
+    std::vector<T, A> fresh;
+    reserve_huge(fresh, n);
+    fresh.assign(v.begin(), v.end());
+    v.swap(fresh);
+  }
+  v.resize(n);
+}
+
+// m.resize(rows, cols) for a dense Eigen matrix, its storage advised when the resize allocates it
+// afresh (the values are then uninitialised, as after Eigen's resize)
+template <class Dense>
+void resize_dense_huge(Dense& m, std::ptrdiff_t rows, std::ptrdiff_t cols)
+{
+  const bool fresh = m.size() != rows * cols;
+  m.resize(rows, cols);
+  if(fresh)
+    advise_huge_pages(m.data(), std::size_t(m.size()) * sizeof(*m.data()));
+}
+
 // the value and index arrays of a compressed sparse matrix just sized by resizeNonZeros()
 template <class SparseMatrix>
 void advise_sparse_storage(SparseMatrix& m)
