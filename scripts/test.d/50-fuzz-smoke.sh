@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Test stage: the libFuzzer targets (test/Laplacian_deformation/fuzz) built with clang in
-# $1-fuzz (-fsanitize=fuzzer,address,undefined), each run ${FUZZ_SECONDS:-30} s from the
+# $1-fuzz (-fsanitize=fuzzer,address,undefined), each run ${FUZZ_SECONDS:-20} s from the
 # committed seed corpus (a scratch copy: the committed corpus is not modified). A crash, a
 # sanitizer finding or a violated property fails the stage.
 #   usage: scripts/test.d/50-fuzz-smoke.sh <main build folder>
@@ -8,7 +8,7 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 build=$(cd "$1" && pwd)   # absolute: the fuzzers run from their scratch folders
 fuzz=$build-fuzz
-seconds=${FUZZ_SECONDS:-30}
+seconds=${FUZZ_SECONDS:-20}
 clang=$(command -v clang++-14 || command -v clang++)
 CXX=$clang cmake -S "$here" -B "$fuzz" -DCMAKE_BUILD_TYPE=Debug -DLAPLACIAN_DEFORMATION_BUILD_FUZZERS=ON \
       -DLAPLACIAN_DEFORMATION_BUILD_TESTS=OFF -DLAPLACIAN_DEFORMATION_BUILD_EXAMPLES=OFF \
