@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 #include <iostream>
 #include <limits>
 #include <random>
@@ -289,3 +290,26 @@ TEST(BatchedTransforms, TargetCanBeForced)
 }
 
 } // namespace
+
+// The local step's power-of-two normalisation, computed from the bits, is bitwise the C library's
+// frexp/ldexp value for every class of input: zero, negative, NaN, infinity, subnormals, the
+// extremes of the exponent range and random magnitudes over the whole range.
+TEST(NormalizingPowerOfTwo, BitwiseTheLibraryValue)
+{
+  namespace LDI = CGAL::Laplacian_deformation::internal;
+  typedef std::numeric_limits<double> L;
+  std::vector<double> values = {0., -0., -1., -L::infinity(), L::infinity(), L::quiet_NaN(), L::denorm_min(),
+                                2 * L::denorm_min(), L::min(), L::min() / 3, std::nextafter(L::min(), 0.), L::max(),
+                                std::nextafter(L::max(), 0.), 0.5, 1., 2., 0.75, 1e-300, 1e300, std::ldexp(1., -1000),
+                                std::ldexp(1., -1001), std::ldexp(1., 1023), std::ldexp(1.5, 1023)};
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> mantissa(1., 2.);
+  std::uniform_int_distribution<int> exponent(-1074, 1023);
+  for(int k = 0; k < 200000; ++k)
+    values.push_back(std::ldexp(mantissa(rng), exponent(rng)));
+  for(double x : values)
+  {
+    const double fast = LDI::normalizing_power_of_two(x), reference = LDI::reference_normalizing_power_of_two(x);
+    ASSERT_EQ(std::memcmp(&fast, &reference, sizeof fast), 0) << x << ": " << fast << " against " << reference;
+  }
+}

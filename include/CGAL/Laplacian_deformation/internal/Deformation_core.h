@@ -537,18 +537,18 @@ private:
         Eigen::Vector3d *re = rest_edges.data() + cells.size() * m_max_degree,
                         *ce = current_edges.data() + cells.size() * m_max_degree;
         double* fw = fit_weights.data() + cells.size() * m_max_degree;
+        // the fits are homogeneous in the edges: the cell is scaled by a power of two (exact) that
+        // brings its largest coordinate near 1, away from overflow and underflow at any model size
+        // (its largest coordinate is found while the spokes are gathered)
+        double largest = 0;
         for(std::size_t i = 0; i < degree; ++i)
         {
           const std::size_t b = s.neighbor[first + i];
           re[i] = ra - rest[b];
           ce[i] = xa - m_node_positions[b];
           fw[i] = (std::max)(s.weight[first + i], 0.);
-        }
-        // the fits are homogeneous in the edges: scale the cell by a power of two (exact) that
-        // brings its largest coordinate near 1, away from overflow and underflow at any model size
-        double largest = 0;
-        for(std::size_t i = 0; i < degree; ++i)
           largest = (std::max)({largest, re[i].cwiseAbs().maxCoeff(), ce[i].cwiseAbs().maxCoeff()});
+        }
         const double unit = normalizing_power_of_two(largest);
         for(std::size_t i = 0; i < degree; ++i)
         {

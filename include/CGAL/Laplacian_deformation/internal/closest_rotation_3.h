@@ -14,6 +14,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -26,7 +28,29 @@ namespace internal {
 // computation that is homogeneous in its input gives bitwise the same result on the scaled input,
 // without the overflows and underflows of squares and products far from 1. For a subnormal
 // `largest` the factor stops at 2^1000 (finite).
+// Computed from the bits of `largest` (the local step calls it twice per cell; std::frexp and
+// std::ldexp are library calls): bitwise the value of reference_normalizing_power_of_two() below,
+// which the tests compare it with.
 inline double normalizing_power_of_two(double largest)
+{
+  if(!(largest > 0) || !(largest <= (std::numeric_limits<double>::max)()))
+    return 1.;
+  std::uint64_t bits;
+  std::memcpy(&bits, &largest, sizeof bits);
+  const int biased = int(bits >> 52);                  // the sign bit is 0: largest > 0
+  // frexp's exponent of a normal number is biased - 1022; subnormals (biased 0) are below 2^-1000
+  const int exponent = biased == 0 ? -1000 : (std::max)(biased - 1022, -1000);
+  // 2^-exponent, exponent in [-1000, 1024]: normal down to 2^-1022, subnormal for 2^-1023, 2^-1024
+  const int power = -exponent;
+  const std::uint64_t result_bits = power >= -1022 ? std::uint64_t(power + 1023) << 52
+                                                   : std::uint64_t(1) << (52 + (power + 1022));
+  double result;
+  std::memcpy(&result, &result_bits, sizeof result);
+  return result;
+}
+
+// normalizing_power_of_two() through the C library: the reference of its test
+inline double reference_normalizing_power_of_two(double largest)
 {
   if(!(largest > 0) || !std::isfinite(largest))
     return 1.;
