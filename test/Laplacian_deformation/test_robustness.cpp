@@ -190,6 +190,40 @@ TEST(BadInput, C02_NonManifoldVertex)
   });
 }
 
+// The manifold check covers the vertices the operator is built from (the ROI's neighbourhood), so
+// that its cost is the region's: a non-manifold vertex far from the ROI does not stop a deformation;
+// once the ROI reaches it, the same deformer refuses.
+TEST(BadInput, C02_NonManifoldVertexOutsideTheRegion)
+{
+  Surface_mesh m = to_mesh<Surface_mesh>(grid_soup(8, 8));
+  const vertex_descriptor corner(0);   // grid point (0, 0), on the border
+  ASSERT_EQ(m.point(corner), Point_3(0, 0, 0));
+  const vertex_descriptor p = m.add_vertex(Point_3(-1, -0.5, 0)), q = m.add_vertex(Point_3(-0.5, -1, 0));
+  if(m.add_face(corner, p, q) == Surface_mesh::null_face())
+  {
+    ASSERT_NE(m.add_face(corner, q, p), Surface_mesh::null_face());
+  }
+  auto grid = [](int i, int j) { return vertex_descriptor(static_cast<Surface_mesh::size_type>(j * 9 + i)); };
+  for_each_combination([&](auto* tag) {
+    typedef std::remove_pointer_t<decltype(tag)> D;
+    Surface_mesh copy = m;
+    D d(copy);
+    for(int j = 4; j < 8; ++j)
+      for(int i = 4; i < 8; ++i)
+        d.insert_roi_vertex(grid(i, j));
+    d.insert_control_vertex(grid(6, 6));
+    d.set_target_position(grid(6, 6), Point_3(6, 6, 0.5));
+    ASSERT_TRUE(d.deform(2, 0)) << d.last_result().message;
+    EXPECT_EQ(copy.point(grid(6, 6)), Point_3(6, 6, 0.5));
+    // the ROI grows to the non-manifold corner: refused, the mesh as it was
+    for(int j = 0; j < 3; ++j)
+      for(int i = 0; i < 3; ++i)
+        d.insert_roi_vertex(grid(i, j));
+    const Snapshot before(copy);
+    EXPECT_TRUE(failed_cleanly(d.deform(2, 0), LD::INVALID_MESH, "non-manifold", before, copy));
+  });
+}
+
 TEST(BadInput, C03_NonManifoldEdge)
 {
   // three triangles on edge (0, 1): not representable as a halfedge mesh; the reader refuses it

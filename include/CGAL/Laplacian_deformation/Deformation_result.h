@@ -28,7 +28,7 @@ enum Deformation_status
   NON_FINITE_RESULT,           ///< the solution, or a transform fitted by the transform policy, contains NaN or infinity (nothing was written)
   INVALID_PARAMETER,           ///< a parameter is out of its range (tolerance negative, infinite or NaN, soft weight not positive and finite), or a vertex descriptor is not a vertex of the mesh
   TOPOLOGY_CHANGED,            ///< the mesh's number of vertices or edges changed since construction
-  INVALID_MESH                 ///< the mesh cannot be deformed: a vertex is non-manifold (its incident faces form several fans)
+  INVALID_MESH                 ///< the mesh cannot be deformed: a vertex the operator is built from (around the ROI) is non-manifold (its incident faces form several fans)
 };
 
 /*!

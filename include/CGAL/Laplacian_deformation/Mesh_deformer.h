@@ -25,6 +25,7 @@
 #include <array>
 #include <numeric>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <chrono>
 #include <type_traits>
@@ -387,6 +388,8 @@ public:
     if(!(m_rigidity_weight >= 0 && std::isfinite(m_rigidity_weight)))
       return fail(INVALID_PARAMETER, "the rigidity weight must be non-negative and finite");
     build_operator();
+    if(!check_umbrellas())
+      return false;
     if(m_rigidity_weight > 0)
       build_rigidity_rows();
     std::vector<unsigned char> role(m_number_of_vertices, internal::FIXED_VERTEX);
@@ -671,40 +674,49 @@ private:
       return true;
     return fail(TOPOLOGY_CHANGED, "the mesh's topology changed since the deformer was constructed");
   }
-  // once: manifold vertices, finite rest positions (polygon faces are fine: LapDefPolygons)
+  // once: finite rest positions, and the number of halfedges pointing to each vertex (one
+  // sequential pass over the halfedges) for check_umbrellas() (polygon faces are fine: LapDefPolygons)
   bool check_mesh()
   {
     if(m_mesh_checked)
       return true;
-    // a vertex is non-manifold when the halfedges pointing to it do not form one umbrella (the
-    // cycle around halfedge(v)) with at most one border halfedge: two passes over the halfedges
-    // with one counter per vertex (PMP::non_manifold_vertices() is several times slower)
-    std::vector<std::size_t> pointing(m_number_of_vertices, 0);
-    for(auto h : halfedges(m_tm))
-      ++pointing[index(target(h, m_tm))];
-    bool non_manifold = false;
-    for(vertex_descriptor v : vertices(m_tm))
-    {
-      if(halfedge(v, m_tm) == boost::graph_traits<TriangleMesh>::null_halfedge())
-        continue;
-      std::size_t around = 0, border = 0;
-      for(auto h : halfedges_around_target(halfedge(v, m_tm), m_tm))
-      {
-        ++around;
-        border += is_border(h, m_tm);
-      }
-      if(around != pointing[index(v)] || border > 1)
-      {
-        non_manifold = true;
-        break;
-      }
-    }
-    if(non_manifold)
-      return fail(INVALID_MESH, "a vertex of the mesh is non-manifold (its faces form several fans)");
     for(const Eigen::Vector3d& p : m_rest)
       if(!p.allFinite())
         return fail(NON_FINITE_INPUT, "a rest position of the mesh is not finite");
+    m_pointing.assign(m_number_of_vertices, 0);
+    for(auto h : halfedges(m_tm))
+      ++m_pointing[index(target(h, m_tm))];
+    m_umbrella_checked.assign(m_number_of_vertices, 0);
     return m_mesh_checked = true;
+  }
+  // the vertices whose umbrellas the operator was built from (every vertex of a built node's
+  // combination) are manifold: the halfedges pointing to the vertex form one umbrella (the cycle
+  // around halfedge(v)) with at most one border halfedge (PMP::non_manifold_vertices() is several
+  // times slower). Each vertex is walked once per deformer (the walk, with its scattered reads of the
+  // mesh, is what a check of the whole mesh spent its time on: the cost is now the region's).
+  bool check_umbrellas()
+  {
+    const internal::Laplacian_stencils& st = m_stencils;
+    for(std::size_t k = 0; k < st.combination_vertex.size(); ++k)
+    {
+      const std::size_t i = st.combination_vertex[k];
+      if(m_umbrella_checked[i])
+        continue;
+      const vertex_descriptor v = m_vertex_at_index[i];
+      if(halfedge(v, m_tm) != boost::graph_traits<TriangleMesh>::null_halfedge())
+      {
+        std::size_t around = 0, border = 0;
+        for(auto h : halfedges_around_target(halfedge(v, m_tm), m_tm))
+        {
+          ++around;
+          border += is_border(h, m_tm);
+        }
+        if(around != m_pointing[i] || border > 1)
+          return fail(INVALID_MESH, "a vertex of the mesh is non-manifold (its faces form several fans)");
+      }
+      m_umbrella_checked[i] = 1;
+    }
+    return true;
   }
   // the rest-geometry operator: stencils, weights, D, delta = D p_rest. With representations whose
   // nodes have incident_nodes() (both of the package's), only the rows that touch the ROI and the
@@ -957,6 +969,8 @@ private:
   bool m_soft = false;
   bool m_operator_ready = false;
   bool m_mesh_checked = false;
+  std::vector<std::uint32_t> m_pointing;            // per vertex: the halfedges pointing to it (check_mesh())
+  std::vector<unsigned char> m_umbrella_checked;    // per vertex: its umbrella found manifold (check_umbrellas())
   bool m_foreign_vertex = false;
   bool m_need_preprocess = true;
 };
