@@ -115,6 +115,7 @@ Laplacian_stencils build_stencils(const Nodes& nodes, std::size_t number_of_vert
   s.combination_start.push_back(0);
   s.neighbor_start.push_back(0);
   s.fan_start.push_back(0);
+  std::vector<std::size_t> neighbor_index;   // the node indices of the current row's neighbours
   for(std::size_t i = 0; i < sequence.size(); ++i)
   {
     const node_descriptor& a = sequence[i];
@@ -125,14 +126,20 @@ Laplacian_stencils build_stencils(const Nodes& nodes, std::size_t number_of_vert
     if(is_row(i))
     {
       const std::size_t first = s.neighbor.size();
+      neighbor_index.clear();
       for(node_descriptor b : nodes.neighbors(a))
+      {
         s.neighbor.push_back(static_cast<Stencil_index>(local_of(b)));
+        neighbor_index.push_back(nodes.index(b));
+      }
       const std::size_t last = s.neighbor.size();
+      // the position of a fan vertex among the neighbours, found by its node index (local_of() may
+      // be a binary search; a fan triangle has two vertices and a cell about twenty triangles)
       auto local = [&](node_descriptor b) {
-        const std::size_t ib = local_of(b);
-        for(std::size_t k = first; k < last; ++k)
-          if(s.neighbor[k] == ib)
-            return k - first;
+        const std::size_t ib = nodes.index(b);
+        for(std::size_t k = 0; k < neighbor_index.size(); ++k)
+          if(neighbor_index[k] == ib)
+            return k;
         CGAL_assertion_msg(false, "a fan triangle vertex is not a neighbour of the node");
         return last - first;
       };
