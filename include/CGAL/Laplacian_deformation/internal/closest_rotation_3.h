@@ -29,8 +29,8 @@ namespace internal {
 // without the overflows and underflows of squares and products far from 1. For a subnormal
 // `largest` the factor stops at 2^1000 (finite).
 // Computed from the bits of `largest` (the local step calls it twice per cell; std::frexp and
-// std::ldexp are library calls): bitwise the value of reference_normalizing_power_of_two() below,
-// which the tests compare it with.
+// std::ldexp are library calls): bitwise the value of std::ldexp(1., -max(e, -1000)) with e the
+// exponent of std::frexp(largest) (test NormalizingPowerOfTwo.BitwiseTheLibraryValue).
 inline double normalizing_power_of_two(double largest)
 {
   if(!(largest > 0) || !(largest <= (std::numeric_limits<double>::max)()))
@@ -49,15 +49,6 @@ inline double normalizing_power_of_two(double largest)
   return result;
 }
 
-// normalizing_power_of_two() through the C library: the reference of its test
-inline double reference_normalizing_power_of_two(double largest)
-{
-  if(!(largest > 0) || !std::isfinite(largest))
-    return 1.;
-  int exponent = 0;
-  std::frexp(largest, &exponent);
-  return std::ldexp(1., -(std::max)(exponent, -1000));
-}
 
 // argmax_R trace(R^T S) over proper rotations, S = sum c e' e^T (Sorkine and Alexa 2007):
 // R = U V^T from the SVD S = U Sigma V^T, with the sign of the column of U of the smallest
