@@ -538,7 +538,7 @@ p('## Performance targets (issues 6 and 16)\n')
 p('From the micro-benchmarks below (`bench_Mesh_deformer --levels=%s`, every case in its own process): '
   'the armadillo (level 0, 26k vertices) and its Loop subdivisions (level 1 104k, level 2 416k), ROI all '
   'but the 2%% lowest vertices, the 1%% highest moved; ours: cotangent weights, S*R1, default solver '
-  '(CHOLMOD supernodal when built with it); CGAL: `Surface_mesh_deformation` ORIGINAL_ARAP with its default '
+  '(when built with CHOLMOD: its AMD ordering and symbolic analysis, the multifrontal numeric factorisation, our supernodal solve); CGAL: `Surface_mesh_deformation` ORIGINAL_ARAP with its default '
   'solver. One iteration = one `deform(1, 0)` (local step, right-hand side, solve). Peak memory = VmHWM of '
   'the process of the iteration case (the case runs alone in its process: load the mesh, copy it, preprocess, '
   'iterate; Google Benchmark may call the case more than once, and the peak is reset through '
@@ -589,7 +589,7 @@ for level in lv:
     def preprocess_split(b):
         if not b or 'factor_ms' not in b:
             return ''
-        text = 'CHOLMOD analyse %.0f + factorise %.0f ms (%.0f%% of it), the rest (stencils, weights, operator, A, A^T A) %.0f ms' % (
+        text = 'analyse (CHOLMOD) %.0f + factorise (multifrontal) %.0f ms (%.0f%% of it), the rest (stencils, weights, operator, A, A^T A) %.0f ms' % (
             b.get('analyse_ms', 0), b.get('factorise_ms', b['factor_ms']), 100 * b['factor_ms'] / b['real_time'],
             b['real_time'] - b['factor_ms'])
         if first_touch and 'extra_mb' in b:
@@ -616,8 +616,9 @@ for level in lv:
         if b and b.get('factor_gflops') and dgemm_rate > 0 and roi == 'all_but_2pct':
             row('%s factorisation rate / dgemm rate' % name, '%.2f GFlop/s (%.2f GFlop in %.0f ms) / %.1f GFlop/s' % (
                 b['factor_gflops'], b['factor_gflop'], b['factorise_ms'], dgemm_rate), b['factor_gflops'] / dgemm_rate, '-',
-                'the limit of the factorisation: CHOLMOD\'s supernodes of a mesh Laplacian are small (%.0f unknowns, %.3g '
-                'nonzeros in L), far from dgemm\'s block sizes' % (b.get('n', 0), b.get('factor_lnz', 0)))
+                'the limit of the factorisation: the fronts of a mesh\'s normal matrix are small (%.0f unknowns, %.3g '
+                'nonzeros in L), most of them far from dgemm\'s block sizes, and the update matrices are assembled by '
+                'scattered additions' % (b.get('n', 0), b.get('factor_lnz', 0)))
     if roi == 'all_but_2pct':
         if e and c and 'peak_mb' in e and 'peak_mb' in c:
             reason = ''
@@ -659,7 +660,7 @@ p('`build/benchmark/Laplacian_deformation/bench_Mesh_deformer --levels=%s`, each
   'Wall time in ms (the mean over the timed iterations), next to the CPU time of the main thread alone (not '
   'counting TBB\'s or BLAS\'s worker threads; far below the wall time when the process waited for a core); '
   'the iteration split (local step / right-hand side / solve) in ms per iteration; memory: '
-  'peak MB = VmHWM of the case\'s process (reset at the start of its last call; see above); factor: CHOLMOD\'s '
+  'peak MB = VmHWM of the case\'s process (reset at the start of its last call; see above); factor: the '
   'analyse + factorise time inside preprocess (ms), the bytes of L (MB) and the factorisation\'s rate (GFlop/s).\n' % levels)
 if benchmarks:
     p('| benchmark | vertices | ROI | time ms | main-thread CPU ms | timed iterations | local / rhs / solve ms | peak MB | factor ms / MB (bandwidth GB/s) |')

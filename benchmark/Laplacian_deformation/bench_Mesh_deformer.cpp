@@ -49,6 +49,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <dlfcn.h>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -109,6 +111,7 @@ struct Factor_record
   bool valid = false;
 };
 Factor_record last_factor;
+double last_metis_seconds = 0;   // of the metisdirect experiment
 
 #ifdef CGAL_LAPLACIAN_DEFORMATION_USE_CHOLMOD
 // Exactly Cholmod_supernodal_llt (the solver of Default_solver_traits); compute() also records.
@@ -117,20 +120,100 @@ struct Recording_supernodal_llt : public LD::Cholmod_supernodal_llt
   typedef LD::Cholmod_supernodal_llt Base;
   Recording_supernodal_llt()
   {
-    // experiments: LD_BENCH_ORDERING=amd|metis|nesdis forces CHOLMOD's fill-reducing ordering
-    if(const char* o = std::getenv("LD_BENCH_ORDERING"); o != nullptr && *o != 0)
+    // experiments: LD_BENCH_ORDERING=cholmod is CHOLMOD's default choice (set_ordering(
+    // CHOLMOD_DEFAULT_ORDERING)); amd|metis|nesdis forces one of CHOLMOD's fill-reducing orderings
+    if(const char* o = std::getenv("LD_BENCH_ORDERING"); o != nullptr && std::strcmp(o, "cholmod") == 0)
+      set_ordering(CHOLMOD_DEFAULT_ORDERING);
+    else if(o != nullptr && *o != 0 && std::strcmp(o, "metisdirect") != 0)
     {
       const std::string ordering = o;
       cholmod().nmethods = 1;
       cholmod().method[0].ordering = ordering == "metis" ? CHOLMOD_METIS : ordering == "nesdis" ? CHOLMOD_NESDIS : CHOLMOD_AMD;
       cholmod().postorder = 1;
     }
+    // experiments: LD_BENCH_MULTIFRONTAL=0 uses CHOLMOD's own numeric factorisation
+    if(const char* m = std::getenv("LD_BENCH_MULTIFRONTAL"); m != nullptr && std::strcmp(m, "0") == 0)
+      set_multifrontal(false);
+    // experiments: LD_BENCH_RELAX=n0,n1,n2,z0,z1,z2 sets CHOLMOD's supernodal amalgamation
+    // (nrelax, zrelax; CHOLMOD's defaults 4,16,48,0.8,0.1,0.05)
+    if(const char* r = std::getenv("LD_BENCH_RELAX"); r != nullptr && *r != 0)
+    {
+      double v[6] = {4, 16, 48, 0.8, 0.1, 0.05};
+      std::sscanf(r, "%lf,%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5]);
+      for(int k = 0; k < 3; ++k)
+      {
+        cholmod().nrelax[k] = static_cast<std::size_t>(v[k]);
+        cholmod().zrelax[k] = v[3 + k];
+      }
+    }
+  }
+  // experiment: LD_BENCH_ORDERING=metisdirect orders with METIS_NodeND called directly, options from
+  // LD_BENCH_METIS="niter,nseps,ufactor,ctype,compress" (-1: METIS's default), then CHOLMOD's
+  // analysis of that permutation (CHOLMOD_GIVEN, postordered)
+  void analyzePattern(const Eigen::SparseMatrix<double>& matrix)
+  {
+    const char* o = std::getenv("LD_BENCH_ORDERING");
+    if(o == nullptr || std::strcmp(o, "metisdirect") != 0)
+      return Base::analyzePattern(matrix);
+    typedef int (*Node_nd)(int*, int*, int*, int*, int*, int*, int*);
+    typedef int (*Set_default)(int*);
+    static Node_nd node_nd = reinterpret_cast<Node_nd>(dlsym(RTLD_DEFAULT, "METIS_NodeND"));
+    static Set_default set_default = reinterpret_cast<Set_default>(dlsym(RTLD_DEFAULT, "METIS_SetDefaultOptions"));
+    if(node_nd == nullptr || set_default == nullptr)
+      throw std::runtime_error("METIS not found");
+    const int n = int(matrix.rows());
+    std::vector<int> degree(std::size_t(n) + 1, 0);
+    for(int j = 0; j < n; ++j)
+      for(Eigen::SparseMatrix<double>::InnerIterator it(matrix, j); it; ++it)
+        if(it.row() > j)
+          ++degree[std::size_t(it.row()) + 1], ++degree[std::size_t(j) + 1];
+    for(int i = 0; i < n; ++i)
+      degree[std::size_t(i) + 1] += degree[std::size_t(i)];
+    std::vector<int> adjacency(static_cast<std::size_t>(degree[std::size_t(n)]));
+    std::vector<int> fill(degree.begin(), degree.end() - 1);
+    for(int j = 0; j < n; ++j)
+      for(Eigen::SparseMatrix<double>::InnerIterator it(matrix, j); it; ++it)
+        if(it.row() > j)
+        {
+          adjacency[std::size_t(fill[std::size_t(it.row())]++)] = j;
+          adjacency[std::size_t(fill[std::size_t(j)]++)] = int(it.row());
+        }
+    int options[40];
+    set_default(options);
+    int v[5] = {-1, -1, -1, -1, -1};
+    if(const char* m = std::getenv("LD_BENCH_METIS"))
+      std::sscanf(m, "%d,%d,%d,%d,%d", &v[0], &v[1], &v[2], &v[3], &v[4]);
+    if(v[0] >= 0) options[6] = v[0];    // METIS_OPTION_NITER
+    if(v[1] >= 0) options[15] = v[1];   // METIS_OPTION_NSEPS
+    if(v[2] >= 0) options[16] = v[2];   // METIS_OPTION_UFACTOR
+    if(v[3] >= 0) options[2] = v[3];    // METIS_OPTION_CTYPE (0 RM, 1 SHEM)
+    if(v[4] >= 0) options[12] = v[4];   // METIS_OPTION_COMPRESS
+    std::vector<int> perm(static_cast<std::size_t>(n)), iperm(static_cast<std::size_t>(n));
+    int nn = n;
+    const auto t0 = std::chrono::steady_clock::now();
+    if(node_nd(&nn, degree.data(), adjacency.data(), nullptr, options, perm.data(), iperm.data()) != 1)
+      throw std::runtime_error("METIS_NodeND failed");
+    last_metis_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    cholmod_common& c = cholmod();
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_GIVEN;
+    c.postorder = 1;
+    cholmod_sparse a = Eigen::viewAsCholmod(Eigen::Ref<Eigen::SparseMatrix<double>>(const_cast<Eigen::SparseMatrix<double>&>(matrix)));
+    a.stype = -1;
+    if(m_cholmodFactor)
+      cholmod_free_factor(&m_cholmodFactor, &c);
+    m_cholmodFactor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &c);
+    m_analysisIsOk = m_cholmodFactor != nullptr;
+    m_factorizationIsOk = false;
+    this->m_isInitialized = true;
+    this->m_info = m_analysisIsOk ? Eigen::Success : Eigen::NumericalIssue;
+    set_multifrontal(is_multifrontal());   // (the derived class's state: forget the old preparation)
   }
   Recording_supernodal_llt& compute(const Eigen::SparseMatrix<double>& matrix)
   {
     typedef std::chrono::steady_clock Clock;
     const auto start = Clock::now();
-    Base::analyzePattern(matrix);              // what Base::compute() does, timed in two parts
+    analyzePattern(matrix);                    // what Base::compute() does, timed in two parts
     const auto analysed = Clock::now();
     Base::factorize(matrix);
     const auto end = Clock::now();
@@ -172,6 +255,8 @@ void report_factor(benchmark::State& state)
     return;
   state.counters["factor_ms"] = 1e3 * last_factor.seconds;
   state.counters["analyse_ms"] = 1e3 * last_factor.analyse_seconds;
+  if(last_metis_seconds > 0)
+    state.counters["metis_ms"] = 1e3 * last_metis_seconds;
   state.counters["factorise_ms"] = 1e3 * last_factor.factorise_seconds;
   state.counters["factor_gflop"] = last_factor.flops / 1e9;
   state.counters["factor_gflops"] = last_factor.factorise_seconds > 0 ? last_factor.flops / last_factor.factorise_seconds / 1e9 : 0.;

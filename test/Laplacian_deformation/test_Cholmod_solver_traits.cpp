@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 
 #include <Eigen/Core>
@@ -140,6 +141,99 @@ TEST(CholmodSupernodalLlt, ThreeColumnSolveMatchesCholmodForEveryKernelAndSchedu
 
 // a finite right-hand side whose solution overflows: Least_squares_solver reports NOT_FINITE (the
 // solution is checked after solve_columns(), which returns it as it is)
+// The multifrontal factorisation (Cholmod_supernodal_llt::factorize(): fronts factored by LAPACK /
+// BLAS, subtrees on several threads) against CHOLMOD's own supernodal factorisation of the same
+// analysis: the same values of L within round-off, sequential and parallel, at the first
+// factorisation and at a refactorisation of new values on the same pattern; the parallel factor
+// does not depend on the threads' timing.
+TEST(CholmodSupernodalLlt, MultifrontalFactorMatchesCholmodFactor)
+{
+  ASSERT_TRUE(LD::internal::Dense_kernels::instance().available()) << "LAPACK and BLAS come with CHOLMOD";
+  for(int side : {150, 131, 7})
+  {
+    Eigen::SparseMatrix<double> n = grid_normal_matrix(side);
+    for(int round = 0; round < 2; ++round)
+    {
+      if(round == 1)   // new values, same pattern
+        for(int k = 0; k < n.outerSize(); ++k)
+          for(Eigen::SparseMatrix<double>::InnerIterator it(n, k); it; ++it)
+            it.valueRef() *= it.row() == it.col() ? 1.5 + 0.001 * double(k % 7) : 0.9;
+      LD::Cholmod_supernodal_llt reference, sequential, parallel, again;
+      reference.set_multifrontal(false);
+      sequential.set_parallel(false);
+      for(LD::Cholmod_supernodal_llt* llt : {&reference, &sequential, &parallel, &again})
+      {
+        llt->compute(n);
+        ASSERT_EQ(llt->info(), Eigen::Success);
+      }
+      EXPECT_FALSE(reference.last_factorization_was_multifrontal());
+      EXPECT_TRUE(sequential.last_factorization_was_multifrontal());
+      EXPECT_TRUE(parallel.last_factorization_was_multifrontal());
+      EXPECT_EQ(sequential.number_of_concurrent_subtrees(), 0u);
+#ifdef CGAL_LINKED_WITH_TBB
+      if(side > 100)
+      {
+        EXPECT_GE(parallel.number_of_concurrent_subtrees(), 2u);
+      }
+#endif
+      const cholmod_factor& r = *reference.factor();
+      ASSERT_TRUE(r.is_super);
+      typedef Eigen::Map<const Eigen::VectorXd> Values;
+      const Values rx(static_cast<const double*>(r.x), Eigen::Index(r.xsize));
+      for(const LD::Cholmod_supernodal_llt* llt : {&sequential, &parallel, &again})
+      {
+        const cholmod_factor& l = *llt->factor();
+        ASSERT_EQ(l.xsize, r.xsize);
+        ASSERT_EQ(l.nsuper, r.nsuper);
+        ASSERT_EQ(l.minor, l.n);
+        const Values lx(static_cast<const double*>(l.x), Eigen::Index(l.xsize));
+        EXPECT_LE((lx - rx).norm(), 1e-13 * rx.norm()) << "side " << side << ", round " << round;
+      }
+      const Values px(static_cast<const double*>(parallel.factor()->x), Eigen::Index(r.xsize));
+      const Values ax(static_cast<const double*>(again.factor()->x), Eigen::Index(r.xsize));
+      EXPECT_TRUE(px == ax) << "the parallel factor does not depend on the threads' timing";
+      // solutions agree too, and refactoring through factorize() on the same pattern reuses the
+      // multifrontal preparation and gives the same factor again
+      const Eigen::MatrixXd b = Eigen::MatrixXd::Random(n.rows(), 3);
+      Eigen::MatrixXd x, y;
+      ASSERT_TRUE(parallel.solve_columns(b, x));
+      y = reference.solve(b);
+      EXPECT_LE((x - y).norm(), 1e-12 * y.norm());
+      again.factorize(n);
+      ASSERT_EQ(again.info(), Eigen::Success);
+      EXPECT_TRUE(px == Values(static_cast<const double*>(again.factor()->x), Eigen::Index(r.xsize)));
+    }
+  }
+}
+
+// A matrix that is not positive definite: the multifrontal factorisation reports it as CHOLMOD does
+// (NumericalIssue, minor < n), with an indefinite and with a NaN pivot (which CHOLMOD's own
+// factorisation, through OpenBLAS's dpotrf, does not report)
+TEST(CholmodSupernodalLlt, MultifrontalReportsAMatrixThatIsNotPositiveDefinite)
+{
+  for(double bad : {-3., std::numeric_limits<double>::quiet_NaN()})
+  {
+    Eigen::SparseMatrix<double> n = grid_normal_matrix(40);
+    n.coeffRef(700, 700) = bad;
+    LD::Cholmod_supernodal_llt multifrontal, reference;
+    reference.set_multifrontal(false);
+    multifrontal.compute(n);
+    reference.compute(n);
+    EXPECT_TRUE(multifrontal.last_factorization_was_multifrontal());
+    EXPECT_EQ(multifrontal.info(), Eigen::NumericalIssue);
+    if(!std::isnan(bad))   // CHOLMOD's own factorisation (OpenBLAS's dpotrf) lets a NaN pivot through
+    {
+      EXPECT_EQ(reference.info(), Eigen::NumericalIssue);
+    }
+    EXPECT_LT(multifrontal.factor()->minor, multifrontal.factor()->n);
+    Eigen::MatrixX3d x;
+    EXPECT_FALSE(multifrontal.solve_columns(Eigen::MatrixX3d::Ones(n.rows(), 3), x));
+    // a good matrix of the same pattern afterwards: factored again
+    multifrontal.factorize(grid_normal_matrix(40));
+    EXPECT_EQ(multifrontal.info(), Eigen::Success);
+  }
+}
+
 TEST(CholmodSolverTraits, OverflowingSolutionIsNotFinite)
 {
   Eigen::SparseMatrix<double> a(4, 3);

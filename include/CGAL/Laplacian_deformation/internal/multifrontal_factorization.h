@@ -1,0 +1,407 @@
+// Copyright (c) 2026 Laplacian_deformation contributors.
+// SPDX-License-Identifier: LGPL-3.0-or-later OR LicenseRef-Commercial
+// Author(s): Laplacian_deformation team
+
+#ifndef CGAL_LAPLACIAN_DEFORMATION_INTERNAL_MULTIFRONTAL_FACTORIZATION_H
+#define CGAL_LAPLACIAN_DEFORMATION_INTERNAL_MULTIFRONTAL_FACTORIZATION_H
+
+// The numeric Cholesky factorisation of a supernodal symbolic factor (CHOLMOD's layout, see
+// internal/supernodal_solve.h), multifrontal: supernode s assembles its front (its own columns of
+// P N P^T and the update matrices of its children, added in the children's order), factors the
+// diagonal block (LAPACK dpotrf), solves the block below it (BLAS dtrsm) and leaves the update
+// matrix of its ancestors (BLAS dsyrk): one call of each per supernode, on blocks as large as the
+// supernode, instead of one pair of calls per (descendant, supernode) pair. Disjoint subtrees of
+// the supernodal elimination tree are factored on TBB's threads, the BLAS on one thread each; the
+// supernodes above them (the top, whose blocks are the largest) one after the other, the BLAS with
+// its own threads. Each supernode's arithmetic is fixed (its children are assembled in index
+// order), so the factor does not depend on the threads' timing.
+//
+// The BLAS and LAPACK routines are those already loaded with CHOLMOD, found at run time (dlsym);
+// where they are not found (or on systems without dlsym) `available()` is false and the caller uses
+// CHOLMOD's own factorisation. With OpenBLAS, its thread count is set to 1 while subtrees are
+// factored concurrently and restored afterwards (a process-wide setting of OpenBLAS).
+
+#include <CGAL/Laplacian_deformation/internal/parallel.h>
+#include <CGAL/use.h>
+
+#ifdef CGAL_LINKED_WITH_TBB
+#include <tbb/parallel_for.h>
+#endif
+
+#if defined(__unix__) || defined(__APPLE__)
+#include <dlfcn.h>
+#define CGAL_LAPDEF_HAS_DLSYM 1
+#else
+#define CGAL_LAPDEF_HAS_DLSYM 0
+#endif
+
+#include <algorithm>
+#include <cstddef>
+#include <cstring>
+#include <memory>
+#include <queue>
+#include <utility>
+#include <vector>
+
+namespace CGAL {
+namespace Laplacian_deformation {
+namespace internal {
+
+// the dense kernels (Fortran BLAS / LAPACK calling convention), found once per process
+struct Dense_kernels
+{
+  typedef void (*Potrf)(const char*, const int*, double*, const int*, int*);
+  typedef void (*Trsm)(const char*, const char*, const char*, const char*, const int*, const int*,
+                       const double*, const double*, const int*, double*, const int*);
+  typedef void (*Syrk)(const char*, const char*, const int*, const int*, const double*, const double*,
+                       const int*, const double*, double*, const int*);
+  typedef void (*Set_threads)(int);
+  typedef int (*Get_threads)();
+  Potrf potrf = nullptr;
+  Trsm trsm = nullptr;
+  Syrk syrk = nullptr;
+  Set_threads set_threads = nullptr;   // OpenBLAS's, when it is the BLAS
+  Get_threads get_threads = nullptr;
+
+  bool available() const { return potrf != nullptr && trsm != nullptr && syrk != nullptr; }
+
+  static const Dense_kernels& instance()
+  {
+    static const Dense_kernels k = [] {
+      Dense_kernels d;
+#if CGAL_LAPDEF_HAS_DLSYM
+      d.potrf = reinterpret_cast<Potrf>(dlsym(RTLD_DEFAULT, "dpotrf_"));
+      d.trsm = reinterpret_cast<Trsm>(dlsym(RTLD_DEFAULT, "dtrsm_"));
+      d.syrk = reinterpret_cast<Syrk>(dlsym(RTLD_DEFAULT, "dsyrk_"));
+      d.set_threads = reinterpret_cast<Set_threads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+      d.get_threads = reinterpret_cast<Get_threads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+      if(d.set_threads == nullptr || d.get_threads == nullptr)
+        d.set_threads = nullptr, d.get_threads = nullptr;
+#endif
+      return d;
+    }();
+    return k;
+  }
+};
+
+// a supernodal factor to be filled: the symbolic part read-only, the values written
+struct Supernodal_factor_target
+{
+  int n = 0, nsuper = 0;
+  const int* super = nullptr;
+  const int* pi = nullptr;
+  const int* px = nullptr;
+  const int* rows = nullptr;
+  double* values = nullptr;
+};
+
+class Multifrontal_factorization
+{
+public:
+  // Prepares the factorisation of the symmetric matrix whose lower triangle is `lower` (compressed
+  // column storage, `outer` of n + 1 offsets, `inner` row indices; the entries above the diagonal,
+  // if any, are ignored) into the symbolic factor `l` of P N P^T, P given by `perm` (row k of
+  // P N P^T is row perm[k] of N; nullptr: identity). Returns false when an entry of N falls outside
+  // the pattern of L (not the analysis of this pattern).
+  bool analyse(const Supernodal_factor_target& l, const int* perm, int n, const int* outer, const int* inner,
+               int bins)
+  {
+    m_valid = false;
+    m_n = n;
+    m_nsuper = l.nsuper;
+    if(l.n != n)
+      return false;
+    const std::size_t nn = std::size_t(n), ns = std::size_t(l.nsuper);
+    std::vector<int> inverse(nn);
+    for(int k = 0; k < n; ++k)
+      inverse[std::size_t(perm ? perm[k] : k)] = k;
+    std::vector<int> column_super(nn);
+    for(int s = 0; s < l.nsuper; ++s)
+      for(int c = l.super[s]; c < l.super[s + 1]; ++c)
+        column_super[std::size_t(c)] = s;
+    // the tree: parent = the supernode of the first row below the diagonal block
+    m_parent.assign(ns, -1);
+    for(int s = 0; s < l.nsuper; ++s)
+    {
+      const int nc = l.super[s + 1] - l.super[s];
+      if(l.pi[s] + nc < l.pi[s + 1])
+      {
+        const int p = column_super[std::size_t(l.rows[l.pi[s] + nc])];
+        if(p <= s)
+          return false;
+        m_parent[std::size_t(s)] = p;
+      }
+    }
+    m_child_start.assign(ns + 1, 0);
+    for(int s = 0; s < l.nsuper; ++s)
+      if(m_parent[std::size_t(s)] >= 0)
+        ++m_child_start[std::size_t(m_parent[std::size_t(s)]) + 1];
+    for(std::size_t s = 0; s < ns; ++s)
+      m_child_start[s + 1] += m_child_start[s];
+    m_children.assign(std::size_t(m_child_start[ns]), 0);
+    {
+      std::vector<int> fill(m_child_start.begin(), m_child_start.end() - 1);
+      for(int s = 0; s < l.nsuper; ++s)   // increasing: each child list sorted
+        if(m_parent[std::size_t(s)] >= 0)
+          m_children[std::size_t(fill[std::size_t(m_parent[std::size_t(s)])]++)] = s;
+    }
+    // N's entries grouped by the supernode of their column in P N P^T, each with its offset in the
+    // supernode's block
+    const std::size_t nnz = std::size_t(outer[n]);
+    std::vector<int> entry_row(nnz, -1), entry_col(nnz, -1);
+    m_entry_start.assign(ns + 1, 0);
+    for(int j = 0; j < n; ++j)
+      for(int k = outer[j]; k < outer[j + 1]; ++k)
+      {
+        const int i = inner[k];
+        if(i < j)
+          continue;
+        const int pi = inverse[std::size_t(i)], pj = inverse[std::size_t(j)];
+        entry_row[std::size_t(k)] = (std::max)(pi, pj);
+        entry_col[std::size_t(k)] = (std::min)(pi, pj);
+        ++m_entry_start[std::size_t(column_super[std::size_t(entry_col[std::size_t(k)])]) + 1];
+      }
+    for(std::size_t s = 0; s < ns; ++s)
+      m_entry_start[s + 1] += m_entry_start[s];
+    m_entry_source.assign(std::size_t(m_entry_start[ns]), 0);
+    m_entry_offset.assign(std::size_t(m_entry_start[ns]), 0);
+    {
+      std::vector<int> fill(m_entry_start.begin(), m_entry_start.end() - 1);
+      for(std::size_t k = 0; k < nnz; ++k)
+        if(entry_col[k] >= 0)
+          m_entry_source[std::size_t(fill[std::size_t(column_super[std::size_t(entry_col[k])])]++)] = int(k);
+    }
+    std::vector<int> local(nn, -1);   // row -> position in the current supernode's rows
+    for(int s = 0; s < l.nsuper; ++s)
+    {
+      const int nr = l.pi[s + 1] - l.pi[s];
+      for(int r = 0; r < nr; ++r)
+        local[std::size_t(l.rows[l.pi[s] + r])] = r;
+      for(int e = m_entry_start[std::size_t(s)]; e < m_entry_start[std::size_t(s) + 1]; ++e)
+      {
+        const std::size_t k = std::size_t(m_entry_source[std::size_t(e)]);
+        const int r = local[std::size_t(entry_row[k])];
+        if(r < 0)
+          return false;    // outside the pattern of L
+        m_entry_offset[std::size_t(e)] = (entry_col[k] - l.super[s]) * nr + r;
+      }
+      for(int r = 0; r < nr; ++r)
+        local[std::size_t(l.rows[l.pi[s] + r])] = -1;
+    }
+    build_schedule(l, bins);
+    m_valid = true;
+    return true;
+  }
+
+  bool valid() const { return m_valid; }
+
+  // Factors: fills l.values (every value of every supernode's block). Returns n on success, or the
+  // first column (in P N P^T's order) whose pivot was not positive (or not a number).
+  int factor(const Supernodal_factor_target& l, const double* values, bool parallel)
+  {
+    const Dense_kernels& blas = Dense_kernels::instance();
+    m_update.clear();
+    m_update.resize(std::size_t(l.nsuper));
+    m_failed_column = l.n;
+#ifdef CGAL_LINKED_WITH_TBB
+    if(parallel && m_subtrees.size() >= 2)
+    {
+      const int threads = blas.set_threads ? blas.get_threads() : 1;
+      if(blas.set_threads && threads != 1)
+        blas.set_threads(1);
+      std::vector<int> failed(m_subtrees.size(), l.n);
+      tbb::parallel_for(std::size_t(0), m_subtrees.size(), [&](std::size_t t) {
+        Workspace w(std::size_t(l.n));
+        const int root = m_subtrees[t];
+        for(int s = m_first[std::size_t(root)]; s <= root && failed[t] == l.n; ++s)
+          failed[t] = front(l, values, s, w, blas);
+      }, tbb::simple_partitioner());
+      if(blas.set_threads && threads != 1)
+        blas.set_threads(threads);
+      for(int f : failed)
+        m_failed_column = (std::min)(m_failed_column, f);
+      if(m_failed_column != l.n)
+        return release(), m_failed_column;
+      Workspace w(std::size_t(l.n));
+      for(int s : m_top)
+        if((m_failed_column = front(l, values, s, w, blas)) != l.n)
+          break;
+      return release(), m_failed_column;
+    }
+#else
+    CGAL_USE(parallel);
+#endif
+    Workspace w(std::size_t(l.n));
+    for(int s = 0; s < l.nsuper; ++s)
+      if((m_failed_column = front(l, values, s, w, blas)) != l.n)
+        break;
+    return release(), m_failed_column;
+  }
+
+  // the number of subtrees factored concurrently (0: sequential), and the top's share of the work
+  std::size_t number_of_subtrees() const { return m_subtrees.size() >= 2 ? m_subtrees.size() : 0; }
+  double top_share() const { return m_top_share; }
+
+private:
+  struct Workspace
+  {
+    explicit Workspace(std::size_t n) : local(n, -1) {}
+    std::vector<int> local;       // row -> position in the current front
+    std::vector<int> relative;    // a child's rows -> positions in the front
+  };
+
+  void release() { m_update.clear(); }
+
+  static double work_of(double nc, double m) { return nc * nc * nc / 3. + nc * nc * m + nc * m * m + 64.; }
+
+  void build_schedule(const Supernodal_factor_target& l, int bins)
+  {
+    const std::size_t ns = std::size_t(l.nsuper);
+    m_first.assign(ns, 0);
+    std::vector<double> work(ns);
+    double total = 0;
+    for(int s = 0; s < l.nsuper; ++s)
+    {
+      m_first[std::size_t(s)] = s;
+      const int nc = l.super[s + 1] - l.super[s], m = l.pi[s + 1] - l.pi[s] - nc;
+      work[std::size_t(s)] += work_of(nc, m);
+    }
+    bool postordered = true;
+    for(int s = 0; s < l.nsuper; ++s)
+    {
+      const int p = m_parent[std::size_t(s)];
+      total += work_of(l.super[s + 1] - l.super[s], l.pi[s + 1] - l.pi[s] - (l.super[s + 1] - l.super[s]));
+      if(p >= 0)
+      {
+        work[std::size_t(p)] += work[std::size_t(s)];
+        m_first[std::size_t(p)] = (std::min)(m_first[std::size_t(p)], m_first[std::size_t(s)]);
+      }
+    }
+    // every subtree contiguous: [first[s], s] holds exactly the subtree of s
+    std::vector<int> size(ns, 1);
+    for(int s = 0; s < l.nsuper; ++s)
+    {
+      postordered = postordered && m_first[std::size_t(s)] == s + 1 - size[std::size_t(s)];
+      if(m_parent[std::size_t(s)] >= 0)
+        size[std::size_t(m_parent[std::size_t(s)])] += size[std::size_t(s)];
+    }
+    m_subtrees.clear();
+    m_top.clear();
+    m_top_share = 1;
+    if(!postordered || bins < 2 || total < 2e6)
+      return;
+    // the heaviest subtree split until none holds more than total / (4 bins)
+    std::priority_queue<std::pair<double, int>> heap;
+    for(int s = 0; s < l.nsuper; ++s)
+      if(m_parent[std::size_t(s)] < 0)
+        heap.push({work[std::size_t(s)], s});
+    std::vector<char> in_top(ns, 0);
+    const double limit = total / (4. * bins);
+    while(!heap.empty() && heap.top().first > limit)
+    {
+      const int s = heap.top().second;
+      heap.pop();
+      in_top[std::size_t(s)] = 1;
+      for(int k = m_child_start[std::size_t(s)]; k < m_child_start[std::size_t(s) + 1]; ++k)
+        heap.push({work[std::size_t(m_children[std::size_t(k)])], m_children[std::size_t(k)]});
+    }
+    std::vector<std::pair<double, int>> subtrees;
+    while(!heap.empty())
+      subtrees.push_back(heap.top()), heap.pop();
+    if(subtrees.size() < 2)
+      return;
+    std::sort(subtrees.begin(), subtrees.end(), [](const std::pair<double, int>& a, const std::pair<double, int>& b) {
+      return a.first > b.first || (a.first == b.first && a.second < b.second);
+    });
+    double top = total;
+    for(const auto& t : subtrees)
+      m_subtrees.push_back(t.second), top -= t.first;
+    for(int s = 0; s < l.nsuper; ++s)
+      if(in_top[std::size_t(s)])
+        m_top.push_back(s);
+    m_top_share = top / total;
+  }
+
+  // assembles, factors and leaves the update matrix of supernode s; returns n or the failed column
+  int front(const Supernodal_factor_target& l, const double* values, int s, Workspace& w, const Dense_kernels& blas)
+  {
+    const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s], m = nr - nc;
+    const int* rows = l.rows + l.pi[s];
+    double* x = l.values + l.px[s];
+    std::fill(x, x + std::size_t(nr) * std::size_t(nc), 0.);
+    for(int e = m_entry_start[std::size_t(s)]; e < m_entry_start[std::size_t(s) + 1]; ++e)
+      x[m_entry_offset[std::size_t(e)]] += values[m_entry_source[std::size_t(e)]];
+    std::unique_ptr<double[]> update;
+    if(m > 0)
+      update.reset(new double[std::size_t(m) * std::size_t(m)]());
+    double* u = update.get();
+    // the children's update matrices, in index order
+    const int c0 = m_child_start[std::size_t(s)], c1 = m_child_start[std::size_t(s) + 1];
+    if(c0 < c1)
+    {
+      for(int r = 0; r < nr; ++r)
+        w.local[std::size_t(rows[r])] = r;
+      for(int k = c0; k < c1; ++k)
+      {
+        const int c = m_children[std::size_t(k)];
+        const int cnc = l.super[c + 1] - l.super[c], cm = l.pi[c + 1] - l.pi[c] - cnc;
+        const int* crows = l.rows + l.pi[c] + cnc;
+        const double* cu = m_update[std::size_t(c)].get();
+        w.relative.resize(std::size_t(cm));
+        for(int i = 0; i < cm; ++i)
+          w.relative[std::size_t(i)] = w.local[std::size_t(crows[i])];
+        const int* rel = w.relative.data();
+        for(int j = 0; j < cm; ++j)
+        {
+          const int tj = rel[j];
+          const double* col = cu + std::size_t(j) * std::size_t(cm);
+          if(tj < nc)
+          {
+            double* target = x + std::size_t(tj) * std::size_t(nr);
+            for(int i = j; i < cm; ++i)
+              target[rel[i]] += col[i];
+          }
+          else
+          {
+            double* target = u + std::size_t(tj - nc) * std::size_t(m);
+            for(int i = j; i < cm; ++i)
+              target[rel[i] - nc] += col[i];
+          }
+        }
+        m_update[std::size_t(c)].reset();
+      }
+      for(int r = 0; r < nr; ++r)
+        w.local[std::size_t(rows[r])] = -1;
+    }
+    int info = 0;
+    blas.potrf("L", &nc, x, &nr, &info);
+    if(info != 0)
+      return info > 0 ? k0 + info - 1 : k0;
+    for(int j = 0; j < nc; ++j)   // a NaN pivot (LAPACK implementations differ on reporting it)
+      if(!(x[std::size_t(j) * std::size_t(nr) + std::size_t(j)] > 0.))
+        return k0 + j;
+    if(m > 0)
+    {
+      const double one = 1., minus_one = -1.;
+      blas.trsm("R", "L", "T", "N", &m, &nc, &one, x, &nr, x + nc, &nr);
+      blas.syrk("L", "N", &m, &nc, &minus_one, x + nc, &nr, &one, u, &m);
+      m_update[std::size_t(s)] = std::move(update);
+    }
+    return l.n;
+  }
+
+  bool m_valid = false;
+  int m_n = 0, m_nsuper = 0;
+  std::vector<int> m_parent, m_child_start, m_children, m_first;
+  std::vector<int> m_entry_start, m_entry_source, m_entry_offset;
+  std::vector<int> m_subtrees, m_top;   // concurrent subtrees (their roots), then the top in order
+  double m_top_share = 1;
+  std::vector<std::unique_ptr<double[]>> m_update;
+  int m_failed_column = 0;
+};
+
+} // namespace internal
+} // namespace Laplacian_deformation
+} // namespace CGAL
+
+#endif // CGAL_LAPLACIAN_DEFORMATION_INTERNAL_MULTIFRONTAL_FACTORIZATION_H
