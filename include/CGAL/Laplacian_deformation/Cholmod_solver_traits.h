@@ -178,6 +178,8 @@ public:
       m_pattern_inner.assign(inner, inner + outer[n]);
       m_multifrontal_valid = true;
     }
+    m_factorizationIsOk = false;          // until the values are complete (an exception may leave them half done)
+    m_info = Eigen::NumericalIssue;
     const int minor = m_multifrontal_engine.factor(target, matrix.valuePtr(), parallel);
     l->minor = std::size_t(minor);
     m_info = minor == n ? Eigen::Success : Eigen::NumericalIssue;

@@ -206,18 +206,18 @@ public:
 #ifdef CGAL_LINKED_WITH_TBB
     if(parallel && m_subtrees.size() >= 2)
     {
-      const int threads = blas.set_threads ? blas.get_threads() : 1;
-      if(blas.set_threads && threads != 1)
-        blas.set_threads(1);
       std::vector<int> failed(m_subtrees.size(), l.n);
-      tbb::parallel_for(std::size_t(0), m_subtrees.size(), [&](std::size_t t) {
-        Workspace w(std::size_t(l.n));
-        const int root = m_subtrees[t];
-        for(int s = m_first[std::size_t(root)]; s <= root && failed[t] == l.n; ++s)
-          failed[t] = front(l, values, s, w, blas);
-      }, tbb::simple_partitioner());
-      if(blas.set_threads && threads != 1)
-        blas.set_threads(threads);
+      {
+        One_blas_thread guard(blas);   // restored on leaving, also by an exception
+        Per_thread<Workspace> per_thread(true);
+        tbb::parallel_for(std::size_t(0), m_subtrees.size(), [&](std::size_t t) {
+          Workspace& w = per_thread.local();   // one per thread, not per subtree (first touches)
+          w.reserve(std::size_t(l.n));
+          const int root = m_subtrees[t];
+          for(int s = m_first[std::size_t(root)]; s <= root && failed[t] == l.n; ++s)
+            failed[t] = front(l, values, s, w, blas);
+        }, tbb::simple_partitioner());
+      }
       for(int f : failed)
         m_failed_column = (std::min)(m_failed_column, f);
       if(m_failed_column != l.n)
@@ -245,12 +245,38 @@ public:
 private:
   struct Workspace
   {
+    Workspace() = default;
     explicit Workspace(std::size_t n) : local(n, -1) {}
-    std::vector<int> local;       // row -> position in the current front
+    void reserve(std::size_t n)
+    {
+      if(local.size() != n)
+        local.assign(n, -1);
+    }
+    std::vector<int> local;       // row -> position in the current front (-1 between fronts)
     std::vector<int> relative;    // a child's rows -> positions in the front
   };
 
   void release() { m_update.clear(); }
+
+  // OpenBLAS's process-wide thread count set to 1 for a scope (nothing with another BLAS)
+  struct One_blas_thread
+  {
+    explicit One_blas_thread(const Dense_kernels& blas)
+      : m_blas(blas), m_threads(blas.set_threads ? blas.get_threads() : 1)
+    {
+      if(m_threads != 1)
+        m_blas.set_threads(1);
+    }
+    ~One_blas_thread()
+    {
+      if(m_threads != 1)
+        m_blas.set_threads(m_threads);
+    }
+    One_blas_thread(const One_blas_thread&) = delete;
+    One_blas_thread& operator=(const One_blas_thread&) = delete;
+    const Dense_kernels& m_blas;
+    int m_threads;
+  };
 
   static double work_of(double nc, double m) { return nc * nc * nc / 3. + nc * nc * m + nc * m * m + 64.; }
 
