@@ -96,7 +96,6 @@ class Cholmod_supernodal_llt
 public:
   typedef Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> Base;
 
-  /// as the base class (and see above for SuiteSparse's allocation functions)
   /// the fill-reducing orderings of `analyzePattern()`
   enum Ordering
   {

@@ -98,11 +98,12 @@ struct Supernodal_factor_target
 class Multifrontal_factorization
 {
 public:
-  // Prepares the factorisation of the symmetric matrix whose lower triangle is `lower` (compressed
-  // column storage, `outer` of n + 1 offsets, `inner` row indices; the entries above the diagonal,
-  // if any, are ignored) into the symbolic factor `l` of P N P^T, P given by `perm` (row k of
-  // P N P^T is row perm[k] of N; nullptr: identity). Returns false when an entry of N falls outside
-  // the pattern of L (not the analysis of this pattern).
+  // Prepares the factorisation of the symmetric matrix N given by its lower triangle in compressed
+  // column storage (`outer`: n + 1 offsets, `inner`: row indices; entries above the diagonal, if
+  // any, are ignored) into the symbolic factor `l` of P N P^T, P given by `perm` (row k of P N P^T
+  // is row perm[k] of N; nullptr: identity), for up to `bins` concurrent groups of subtrees (1:
+  // sequential). Returns false when an entry of N falls outside the pattern of L (`l` is not the
+  // analysis of this pattern) or `l` is not a supernodal elimination tree.
   bool analyse(const Supernodal_factor_target& l, const int* perm, int n, const int* outer, const int* inner,
                int bins)
   {
