@@ -305,16 +305,10 @@ public:
 private:
   internal::Supernodal_factor_target factor_target() const
   {
-    const cholmod_factor* l = m_cholmodFactor;
-    internal::Supernodal_factor_target v;
-    v.n = int(l->n);
-    v.nsuper = int(l->nsuper);
-    v.super = static_cast<const int*>(l->super);
-    v.pi = static_cast<const int*>(l->pi);
-    v.px = static_cast<const int*>(l->px);
-    v.rows = static_cast<const int*>(l->s);
-    v.values = static_cast<double*>(l->x);
-    return v;
+    internal::Supernodal_factor_target t;
+    static_cast<internal::Supernodal_factor_view&>(t) = view();
+    t.writable_values = static_cast<double*>(m_cholmodFactor->x);
+    return t;
   }
 
   internal::Supernodal_factor_view view() const

@@ -22,6 +22,7 @@
 // factored concurrently and restored afterwards (a process-wide setting of OpenBLAS).
 
 #include <CGAL/Laplacian_deformation/internal/parallel.h>
+#include <CGAL/Laplacian_deformation/internal/supernodal_solve.h>
 #include <CGAL/use.h>
 
 #ifdef CGAL_LINKED_WITH_TBB
@@ -84,15 +85,10 @@ struct Dense_kernels
   }
 };
 
-// a supernodal factor to be filled: the symbolic part read-only, the values written
-struct Supernodal_factor_target
+// a supernodal factor to be filled: the symbolic part read-only (the view's), the values written
+struct Supernodal_factor_target : Supernodal_factor_view
 {
-  int n = 0, nsuper = 0;
-  const int* super = nullptr;
-  const int* pi = nullptr;
-  const int* px = nullptr;
-  const int* rows = nullptr;
-  double* values = nullptr;
+  double* writable_values = nullptr;   // the same array as `values`
 };
 
 class Multifrontal_factorization
@@ -196,7 +192,7 @@ public:
 
   bool valid() const { return m_valid; }
 
-  // Factors: fills l.values (every value of every supernode's block). Returns n on success, or the
+  // Factors: fills l.writable_values (every value of every supernode's block). Returns n on success, or the
   // first column (in P N P^T's order) whose pivot was not positive (or not a number).
   int factor(const Supernodal_factor_target& l, const double* values, bool parallel)
   {
@@ -354,7 +350,7 @@ private:
   {
     const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s], m = nr - nc;
     const int* rows = l.rows + l.pi[s];
-    double* x = l.values + l.px[s];
+    double* x = l.writable_values + l.px[s];
     std::fill(x, x + std::size_t(nr) * std::size_t(nc), 0.);
     for(int e = m_entry_start[std::size_t(s)]; e < m_entry_start[std::size_t(s) + 1]; ++e)
       x[m_entry_offset[std::size_t(e)]] += values[m_entry_source[std::size_t(e)]];
