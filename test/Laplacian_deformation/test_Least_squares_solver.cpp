@@ -167,6 +167,15 @@ TEST(HugePages, HelpersKeepTheValues)
   EXPECT_TRUE((m.array() == 7.).all());
   LD::internal::resize_dense_huge(m, 5, 3);
   EXPECT_EQ(m.rows(), 5);
+  // Huge_vector: a std::vector whose large blocks are advised; growth keeps the values
+  LD::internal::Huge_vector<int> h;
+  for(int i = 0; i < (1 << 21); ++i)
+    h.push_back(i);
+  EXPECT_EQ(h.size(), std::size_t(1) << 21);
+  EXPECT_EQ(h[12345], 12345);
+  EXPECT_EQ(h.back(), (1 << 21) - 1);
+  LD::internal::Huge_vector<int>().swap(h);
+  EXPECT_EQ(h.capacity(), 0u);
 }
 
 TEST(LeastSquaresSolver, MatchesDenseQR)
@@ -513,6 +522,68 @@ TEST(LeastSquaresSolver, SolveNormalEquationsMatchesSolve)
   ASSERT_TRUE(lu.factor(a));
   ASSERT_TRUE(lu.solve(b, z));
   EXPECT_LE((z - x).norm(), 1e-10 * x.norm());
+}
+
+// factor_with_rows(): A by rows read from an operator D (rows x vertices, by rows) restricted to the
+// unknown columns, as Mesh_deformer's core does, instead of A^T: the same normal matrix bit for bit
+// (sequential and on TBB's threads), hence the same solution
+TEST(LeastSquaresSolver, FactorWithRowsFromAnOperatorEqualsFactor)
+{
+  typedef Eigen::SparseMatrix<double>::StorageIndex Index;
+  const Eigen::SparseMatrix<double> dc = random_sparse(2500, 900, 6, 11);
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> d(dc);
+  std::vector<long> unknown_index(900, -1);
+  std::vector<Index> unknowns;
+  for(Index v = 0; v < 900; ++v)
+    if(v % 5 != 0)
+    {
+      unknown_index[std::size_t(v)] = long(unknowns.size());
+      unknowns.push_back(v);
+    }
+  // A: the unknown columns of D, by columns
+  std::vector<Eigen::Triplet<double>> t;
+  for(Index r = 0; r < Index(d.rows()); ++r)
+    for(Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(d, r); it; ++it)
+      if(unknown_index[std::size_t(it.col())] >= 0)
+        t.emplace_back(r, int(unknown_index[std::size_t(it.col())]), it.value());
+  Eigen::SparseMatrix<double> a(d.rows(), Eigen::Index(unknowns.size()));
+  a.setFromTriplets(t.begin(), t.end());
+  a.makeCompressed();
+  auto rows = [&](Index r, Index j, auto&& f) {
+    const Index* begin = d.innerIndexPtr() + d.outerIndexPtr()[r];
+    const Index* end = d.innerIndexPtr() + d.outerIndexPtr()[r + 1];
+    if(j > 0)
+      begin = std::lower_bound(begin, end, unknowns[std::size_t(j)]);
+    for(const Index* p = begin; p != end; ++p)
+      if(unknown_index[std::size_t(*p)] >= 0)
+        f(Index(unknown_index[std::size_t(*p)]), d.valuePtr()[p - d.innerIndexPtr()]);
+  };
+  const Eigen::SparseMatrix<double> at = a.transpose();
+  for(bool lower : {false, true})
+    for(bool parallel : {false, true})
+    {
+      const Eigen::SparseMatrix<double> expected = LD::internal::normal_matrix(a, at, lower);
+      const Eigen::SparseMatrix<double> n = LD::internal::normal_matrix_from_rows(a, rows, lower, parallel);
+      ASSERT_EQ(n.nonZeros(), expected.nonZeros());
+      EXPECT_TRUE(std::equal(n.outerIndexPtr(), n.outerIndexPtr() + n.cols() + 1, expected.outerIndexPtr()));
+      EXPECT_TRUE(std::equal(n.innerIndexPtr(), n.innerIndexPtr() + n.nonZeros(), expected.innerIndexPtr()));
+      EXPECT_TRUE(std::equal(n.valuePtr(), n.valuePtr() + n.nonZeros(), expected.valuePtr()));
+    }
+  const Eigen::MatrixX3d b = Eigen::MatrixX3d::Random(d.rows(), 3);
+  LD::Least_squares_solver<> by_columns, by_rows;
+  ASSERT_TRUE(by_columns.factor(a));
+  Eigen::SparseMatrix<double> taken = a;
+  ASSERT_TRUE(by_rows.factor_with_rows(std::move(taken), rows));
+  Eigen::MatrixX3d x, y;
+  ASSERT_TRUE(by_columns.solve(b, x));
+  ASSERT_TRUE(by_rows.solve(b, y));
+  EXPECT_EQ(x, y);
+  EXPECT_GT(x.norm(), 0.);
+  // a non-finite entry is refused as by factor()
+  Eigen::SparseMatrix<double> bad = a;
+  bad.valuePtr()[3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(by_rows.factor_with_rows(std::move(bad), rows));
+  EXPECT_EQ(by_rows.info(), LD::Least_squares_solver<>::NOT_FINITE);
 }
 
 } // namespace

@@ -352,3 +352,68 @@ TEST(LaplacianStencils, IndicesAre32BitAndOversizedMeshesAreRefused)
     EXPECT_NE(std::string(e.what()).find("32-bit"), std::string::npos) << e.what();
   }
 }
+
+// The assembly on TBB's threads (stencils, operator, delta = D p_rest: each in two passes that
+// count then write in place) gives the sequential arrays bit for bit, on a mesh large enough for
+// many blocks, for the whole mesh and for a region.
+TEST(LaplacianStencils, ParallelAssemblyEqualsSequentialBitwise)
+{
+  namespace LDI = CGAL::Laplacian_deformation::internal;
+  const Surface_mesh m = to_mesh<Surface_mesh>(icosphere_soup(5));
+  const auto vim = CGAL::get_initialized_vertex_index_map(m);
+  const std::size_t n = num_vertices(m);
+  ASSERT_GT(n, 10000u);
+  std::vector<Eigen::Vector3d> p(n);
+  for(auto v : vertices(m))
+  {
+    const auto& q = get(CGAL::vertex_point, m, v);
+    p[get(vim, v)] = Eigen::Vector3d(q.x(), q.y(), q.z());
+  }
+  std::vector<boost::graph_traits<Surface_mesh>::vertex_descriptor> region;
+  for(auto v : vertices(m))
+    if(get(vim, v) % 3 != 0 || get(vim, v) < n / 4)
+      region.push_back(v);
+  auto same_stencils = [](const LDI::Laplacian_stencils& a, const LDI::Laplacian_stencils& b) {
+    EXPECT_EQ(a.number_of_nodes, b.number_of_nodes);
+    EXPECT_EQ(a.combination_start, b.combination_start);
+    EXPECT_EQ(a.combination_vertex, b.combination_vertex);
+    EXPECT_EQ(a.combination_coefficient, b.combination_coefficient);
+    EXPECT_EQ(a.neighbor_start, b.neighbor_start);
+    EXPECT_EQ(a.neighbor, b.neighbor);
+    EXPECT_EQ(a.fan_start, b.fan_start);
+    EXPECT_EQ(a.fan, b.fan);
+    EXPECT_EQ(a.global_node, b.global_node);
+  };
+  auto same_operator = [](const Eigen::SparseMatrix<double, Eigen::RowMajor>& a,
+                          const Eigen::SparseMatrix<double, Eigen::RowMajor>& b) {
+    ASSERT_EQ(a.rows(), b.rows());
+    ASSERT_EQ(a.nonZeros(), b.nonZeros());
+    EXPECT_TRUE(std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.rows() + 1, b.outerIndexPtr()));
+    EXPECT_TRUE(std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr()));
+    EXPECT_TRUE(std::equal(a.valuePtr(), a.valuePtr() + a.nonZeros(), b.valuePtr()));   // bitwise
+  };
+  auto check = [&](auto rep) {
+    typedef typename decltype(rep)::template Nodes<Surface_mesh, boost::property_map<Surface_mesh, CGAL::vertex_point_t>::const_type> Nodes;
+    const Nodes nodes(m, get(CGAL::vertex_point, m));
+    for(int local = 0; local < 2; ++local)
+    {
+      LDI::Laplacian_stencils s[2];
+      for(int parallel = 0; parallel < 2; ++parallel)
+        s[parallel] = local ? LDI::laplacian_stencils_near(nodes, n, vim, region, parallel == 1)
+                            : LDI::laplacian_stencils(nodes, n, vim, parallel == 1);
+      same_stencils(s[0], s[1]);
+      EXPECT_GT(s[0].fan.size(), 0u);
+      std::vector<Eigen::Vector3d> x;
+      LDI::node_positions(s[0], p, x);
+      LDI::compute_weights(s[0], x, LD::Cotangent_weights(), Kernel());
+      const Eigen::SparseMatrix<double, Eigen::RowMajor> d = LDI::laplacian_operator(s[0]);
+      same_operator(d, LDI::laplacian_operator(s[0], true));
+      EXPECT_GT(d.nonZeros(), Eigen::Index(4 * n));
+      const Eigen::MatrixX3d delta = LDI::operator_times_positions(d, p);
+      EXPECT_TRUE(delta == LDI::operator_times_positions(d, p, true));
+      EXPECT_GT(delta.norm(), 0.);
+    }
+  };
+  check(LD::Vertex_based_representation());
+  check(LD::Edge_based_representation());
+}

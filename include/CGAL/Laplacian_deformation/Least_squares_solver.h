@@ -111,30 +111,33 @@ public:
   /// while `A^T A` is formed, and is freed before the factorisation (whose memory is the peak).
   bool factor(Eigen::SparseMatrix<double>&& a)
   {
-    m_factored = false;
-    for(Eigen::Index k = 0; k < a.outerSize(); ++k)      // also right for uncompressed matrices
-      for(Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it)
-        if(!std::isfinite(it.value()))
-          return fail(NOT_FINITE);
-    a.makeCompressed();
-    m_a.swap(a);
+    if(!take_matrix(a))
+      return false;
+    Eigen::SparseMatrix<double> n;
     {
-      Eigen::SparseMatrix<double> n;
-      {
-        const Eigen::SparseMatrix<double> at = internal::transposed_advised(m_a);
-        // only the lower triangle when the traits read no more of it (Cholesky factorisations)
-        n = internal::normal_matrix(m_a, at, internal::Solver_traits_read_lower_triangle<Solver_traits>::value,
-                                    internal::runs_in_parallel<ConcurrencyTag>());
-      }
-      set_matrix(m_matrix, n);     // owned: the traits keep a pointer to it
+      const Eigen::SparseMatrix<double> at = internal::transposed_advised(m_a);
+      // only the lower triangle when the traits read no more of it (Cholesky factorisations)
+      n = internal::normal_matrix(m_a, at, internal::Solver_traits_read_lower_triangle<Solver_traits>::value,
+                                  internal::runs_in_parallel<ConcurrencyTag>());
     }
-    ++m_number_of_factorizations;
-    set_solver_parallel(internal::Priority_1());
-    if(!factor_matrix(internal::Priority_1()))
-      return fail(FACTORIZATION_FAILED);
-    m_factored = true;
-    return fail(SUCCESS), true;
+    return factor_normal_matrix(n);
   }
+  /// \cond SKIP_IN_MANUAL
+  // factor(a) for a caller that has A by rows in another form (Mesh_deformer: the operator A was
+  // taken from): `rows(r, j, f)` calls f(i, A(r, i)) for the entries i >= j of row r, in
+  // increasing i, with exactly `a`'s values. A^T is then never formed (its memory and its
+  // scattered copy are saved); the normal matrix is the same, bit for bit.
+  template <class Rows>
+  bool factor_with_rows(Eigen::SparseMatrix<double>&& a, const Rows& rows)
+  {
+    if(!take_matrix(a))
+      return false;
+    Eigen::SparseMatrix<double> n = internal::normal_matrix_from_rows(
+        m_a, rows, internal::Solver_traits_read_lower_triangle<Solver_traits>::value,
+        internal::runs_in_parallel<ConcurrencyTag>());
+    return factor_normal_matrix(n);
+  }
+  /// \endcond
 
   /// solves `min |A X - B|^2` for the three columns of `B` at once.
   bool solve(const Eigen::MatrixX3d& b, Eigen::MatrixX3d& x)
@@ -188,6 +191,30 @@ private:
   typedef typename Solver_traits::Vector Vector;
 
   bool fail(Info info) { m_info = info; return false; }
+
+  // the input check of factor(): A finite, then taken over (compressed)
+  bool take_matrix(Eigen::SparseMatrix<double>& a)
+  {
+    m_factored = false;
+    for(Eigen::Index k = 0; k < a.outerSize(); ++k)      // also right for uncompressed matrices
+      for(Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it)
+        if(!std::isfinite(it.value()))
+          return fail(NOT_FINITE);
+    a.makeCompressed();
+    m_a.swap(a);
+    return true;
+  }
+  // factors the normal matrix `n` (taken over: the traits keep it)
+  bool factor_normal_matrix(Eigen::SparseMatrix<double>& n)
+  {
+    set_matrix(m_matrix, n);     // owned: the traits keep a pointer to it
+    ++m_number_of_factorizations;
+    set_solver_parallel(internal::Priority_1());
+    if(!factor_matrix(internal::Priority_1()))
+      return fail(FACTORIZATION_FAILED);
+    m_factored = true;
+    return fail(SUCCESS), true;
+  }
 
   // m = n without a copy of n when the traits' matrix wraps an Eigen matrix (Eigen 3.4's sparse
   // matrices have no move assignment: a plain assignment copies)

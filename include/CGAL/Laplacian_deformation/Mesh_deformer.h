@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <atomic>
 #include <chrono>
 #include <type_traits>
 #include <vector>
@@ -838,33 +839,73 @@ private:
       m_preprocess_warnings.push_back({HANDLE_TOUCHES_FIXED, touching, std::to_string(touching) +
           " control vertices are adjacent to fixed vertices (no free vertex between them): moving them "
           "stretches the edges to the fixed part into a thin tongue; grow the region of interest around them"});
-    // the faces around the ROI's vertices, each once: from its ROI vertex of smallest index
-    m_face_start.assign(1, 0);
-    m_face_vertex.clear();
-    m_rest_normals.clear();
-    for(vertex_descriptor v : m_roi)
+    // the faces around the ROI's vertices, each once: from its ROI vertex of smallest index. The
+    // ROI is cut into chunks (walked on TBB's threads with Parallel_tag), each collecting its faces
+    // in order; the chunks are then joined in order (the same faces in the same order either way).
+    const bool parallel = internal::runs_in_parallel<ConcurrencyTag>();
+    const std::size_t chunk = 4096, chunks = (m_roi.size() + chunk - 1) / chunk;
+    struct Faces
     {
-      if(halfedge(v, m_tm) == boost::graph_traits<TriangleMesh>::null_halfedge())
-        continue;
-      for(auto h : halfedges_around_target(halfedge(v, m_tm), m_tm))
+      std::vector<std::size_t> start, vertex;   // start: the end of each face in `vertex`
+    };
+    std::vector<Faces> found(chunks);
+    internal::for_each_block(chunks, parallel, [&](std::size_t first, std::size_t last) {
+      for(std::size_t c = first; c < last; ++c)
       {
-        if(is_border(h, m_tm))
-          continue;
-        bool first = true;
-        for(vertex_descriptor w : vertices_around_face(h, m_tm))
+        Faces& f = found[c];
+        f.vertex.reserve(6 * chunk);
+        for(std::size_t i = c * chunk; i < (std::min)(m_roi.size(), (c + 1) * chunk); ++i)
         {
-          m_face_vertex.push_back(index(w));
-          first = first && (index(w) >= index(v) || m_role[index(w)] == internal::FIXED_VERTEX);
-        }
-        if(!first)
-          m_face_vertex.resize(m_face_start.back());
-        else
-        {
-          m_face_start.push_back(m_face_vertex.size());
-          m_rest_normals.push_back(face_normal(m_rest, m_rest_normals.size()));
+          const vertex_descriptor v = m_roi[i];
+          if(halfedge(v, m_tm) == boost::graph_traits<TriangleMesh>::null_halfedge())
+            continue;
+          const std::size_t iv = index(v);
+          for(auto h : halfedges_around_target(halfedge(v, m_tm), m_tm))
+          {
+            if(is_border(h, m_tm))
+              continue;
+            const std::size_t begin = f.vertex.size();
+            bool first = true;
+            for(vertex_descriptor w : vertices_around_face(h, m_tm))
+            {
+              const std::size_t iw = index(w);
+              f.vertex.push_back(iw);
+              first = first && (iw >= iv || m_role[iw] == internal::FIXED_VERTEX);
+            }
+            if(!first)
+              f.vertex.resize(begin);
+            else
+              f.start.push_back(f.vertex.size());
+          }
         }
       }
+    }, 1);
+    std::size_t faces = 0, entries = 0;
+    for(const Faces& f : found)
+    {
+      faces += f.start.size();
+      entries += f.vertex.size();
     }
+    m_face_start.clear();
+    m_face_vertex.clear();
+    internal::reserve_huge(m_face_start, faces + 1);
+    internal::reserve_huge(m_face_vertex, entries);
+    m_face_start.push_back(0);
+    for(Faces& f : found)
+    {
+      const std::size_t offset = m_face_vertex.size();
+      for(std::size_t end : f.start)
+        m_face_start.push_back(offset + end);
+      m_face_vertex.insert(m_face_vertex.end(), f.vertex.begin(), f.vertex.end());
+      Faces().start.swap(f.start);
+      Faces().vertex.swap(f.vertex);
+    }
+    m_rest_normals.clear();
+    internal::resize_huge(m_rest_normals, faces);
+    internal::for_each_block(faces, parallel, [&](std::size_t begin, std::size_t end) {
+      for(std::size_t k = begin; k < end; ++k)
+        m_rest_normals[k] = face_normal(m_rest, k);
+    }, 4096);
   }
   // the (unnormalised) normal of the k-th ROI face at positions `p`, Newell-like from its first
   // vertex, on edge vectors scaled by a power of two (no overflow or underflow at any model size)
@@ -885,9 +926,15 @@ private:
   void add_warnings(const std::vector<Eigen::Vector3d>& p)
   {
     std::vector<Deformation_warning>& w = m_last.warnings;
-    std::size_t folded = 0;
-    for(std::size_t k = 0; k < m_rest_normals.size(); ++k)
-      folded += m_rest_normals[k].dot(face_normal(p, k)) < 0;
+    std::atomic<std::size_t> folded_faces(0);   // counted in blocks (on TBB's threads with Parallel_tag)
+    internal::for_each_block(m_rest_normals.size(), internal::runs_in_parallel<ConcurrencyTag>(),
+                             [&](std::size_t begin, std::size_t end) {
+      std::size_t count = 0;
+      for(std::size_t k = begin; k < end; ++k)
+        count += m_rest_normals[k].dot(face_normal(p, k)) < 0;
+      folded_faces += count;
+    }, 4096);
+    const std::size_t folded = folded_faces;
     if(folded > 0)
       w.push_back({FOLDED_FACES, folded, std::to_string(folded) + " of the " + std::to_string(m_rest_normals.size()) +
           " faces of the region of interest turned by more than 90 degrees from their rest orientation "

@@ -89,20 +89,37 @@ public:
 
     // rows: every row of D that touches an unknown vertex, in increasing order; the nodes whose
     // transforms they use (the fitted nodes), increasing, and each row's fitted node
-    m_rows.clear();
-    for(std::size_t a = 0; a < std::size_t(d.rows()); ++a)
-      for(Operator::InnerIterator it(d, Eigen::Index(a)); it; ++it)
-        if(m_unknown_index[std::size_t(it.col())] >= 0)
-        {
-          m_rows.push_back(a);
-          break;
-        }
-    const Eigen::Index nr = static_cast<Eigen::Index>(m_rows.size());
+    typedef Eigen::SparseMatrix<double>::StorageIndex Index;
+    const Index* d_outer = d.outerIndexPtr();
+    const Index* d_inner = d.innerIndexPtr();
+    const double* d_value = d.valuePtr();
+    const Index* d_nonzeros = d.innerNonZeroPtr();   // null when compressed
+    auto row_end = [&](std::size_t a) { return d_nonzeros ? d_outer[a] + d_nonzeros[a] : d_outer[a + 1]; };
     {
-      auto owner_of = [owner](std::size_t r) { return owner ? (*owner)[r] : r; };
+      std::vector<unsigned char> touches(std::size_t(d.rows()), 0);
+      for_each_block(touches.size(), [&](std::size_t begin, std::size_t end) {
+        for(std::size_t a = begin; a < end; ++a)
+          for(Index k = d_outer[a]; k < row_end(a) && !touches[a]; ++k)
+            touches[a] = m_unknown_index[std::size_t(d_inner[k])] >= 0;
+      });
+      m_rows.clear();
+      reserve_huge(m_rows, std::size_t(std::count(touches.begin(), touches.end(), 1)));
+      for(std::size_t a = 0; a < touches.size(); ++a)
+        if(touches[a])
+          m_rows.push_back(a);
+    }
+    const Eigen::Index nr = static_cast<Eigen::Index>(m_rows.size());
+    if(owner == nullptr)   // each row is its own node's: the fitted nodes are the rows
+    {
+      m_fit_nodes.assign(m_rows.begin(), m_rows.end());
+      m_row_fit.resize(m_rows.size());
+      std::iota(m_row_fit.begin(), m_row_fit.end(), std::size_t(0));
+    }
+    else
+    {
       std::vector<long> fit_index(s.number_of_nodes, -1);
       for(std::size_t r : m_rows)
-        fit_index[owner_of(r)] = 0;
+        fit_index[(*owner)[r]] = 0;
       m_fit_nodes.clear();
       for(std::size_t a = 0; a < s.number_of_nodes; ++a)
         if(fit_index[a] == 0)
@@ -112,26 +129,56 @@ public:
         }
       m_row_fit.resize(m_rows.size());
       for(std::size_t r = 0; r < m_rows.size(); ++r)
-        m_row_fit[r] = std::size_t(fit_index[owner_of(m_rows[r])]);
+        m_row_fit[r] = std::size_t(fit_index[(*owner)[m_rows[r]]]);
     }
 
-    // split D[rows, :] into the unknown block A and the known block K, both assembled in
-    // compressed column form from D's rows taken in increasing order (so every column is sorted)
+    // split D[rows, :] into the unknown block A (by columns: the solver's) and the known block K
+    // (by rows: K p_known row by row), both in the order of D's rows and columns. A is a
+    // transposition, done in a few blocks of rows: each block counts its entries per column, the
+    // counts give each block its own range in every column, and the blocks fill them at once
+    // (the same matrix as a sequential pass: each column's rows increase).
     m_soft.clear();
+    std::vector<char> soft_column(m_unknowns.size(), 0);
     for(std::size_t j = 0; j < m_unknowns.size(); ++j)
       if(role[m_unknowns[j]] == SOFT_CONTROL_VERTEX)
-        m_soft.push_back(j);
-    std::vector<int> a_outer(std::size_t(nu) + 1, 0), k_outer(n + 1, 0);
-    for(std::size_t a : m_rows)
-      for(Operator::InnerIterator it(d, Eigen::Index(a)); it; ++it)
       {
-        const long j = m_unknown_index[std::size_t(it.col())];
-        ++(j >= 0 ? a_outer[std::size_t(j) + 1] : k_outer[std::size_t(it.col()) + 1]);
+        m_soft.push_back(j);
+        soft_column[j] = 1;
       }
-    for(std::size_t j : m_soft)
-      ++a_outer[j + 1];
+    const bool parallel = runs_in_parallel<ConcurrencyTag>();
+    const std::size_t blocks = parallel && m_rows.size() > 16384 ? 4 : 1;
+    auto block_rows = [&](std::size_t block) { return m_rows.size() * block / blocks; };
+    std::vector<std::vector<Index>> next_a(blocks, std::vector<Index>(std::size_t(nu), 0));
+    std::vector<Index> a_outer(std::size_t(nu) + 1, 0), k_outer(m_rows.size() + 1, 0);
+    internal::for_each_block(blocks, parallel, [&](std::size_t first, std::size_t last) {
+      for(std::size_t block = first; block < last; ++block)
+        for(std::size_t r = block_rows(block); r < block_rows(block + 1); ++r)
+          for(Index k = d_outer[m_rows[r]]; k < row_end(m_rows[r]); ++k)
+          {
+            const long j = m_unknown_index[std::size_t(d_inner[k])];
+            ++(j >= 0 ? next_a[block][std::size_t(j)] : k_outer[r + 1]);
+          }
+    }, 1);
+    for_each_block(std::size_t(nu), [&](std::size_t begin, std::size_t end) {
+      for(std::size_t j = begin; j < end; ++j)
+      {
+        Index count = soft_column[j];
+        for(std::size_t block = 0; block < blocks; ++block)
+          count += next_a[block][j];
+        a_outer[j + 1] = count;
+      }
+    });
     std::partial_sum(a_outer.begin(), a_outer.end(), a_outer.begin());
     std::partial_sum(k_outer.begin(), k_outer.end(), k_outer.begin());
+    for_each_block(std::size_t(nu), [&](std::size_t begin, std::size_t end) {
+      for(std::size_t j = begin; j < end; ++j)
+        for(std::size_t block = 0, next = std::size_t(a_outer[j]); block < blocks; ++block)
+        {
+          const std::size_t count = std::size_t(next_a[block][j]);
+          next_a[block][j] = Index(next);
+          next += count;
+        }
+    });
     m_a.resize(nr + Eigen::Index(m_soft.size()), nu);
     m_a.resizeNonZeros(a_outer.back());
     advise_sparse_storage(m_a);
@@ -140,50 +187,68 @@ public:
     advise_sparse_storage(m_known);
     std::copy(a_outer.begin(), a_outer.end(), m_a.outerIndexPtr());
     std::copy(k_outer.begin(), k_outer.end(), m_known.outerIndexPtr());
-
-    std::vector<long> first_unknown(m_rows.size(), -1);
-    std::vector<char> row_has_known(m_rows.size(), 0);
-    Union_find components(m_unknowns.size());
-    double sum_squares = 0;
-    std::vector<double> column_squares(m_unknowns.size(), 0.);   // the diagonal of A^T A
-    bool operator_finite = true;
-    {
-      std::vector<int> next_a(a_outer.begin(), a_outer.end() - 1), next_k(k_outer.begin(), k_outer.end() - 1);
-      for(std::size_t r = 0; r < m_rows.size(); ++r)
+    internal::for_each_block(blocks, parallel, [&](std::size_t first, std::size_t last) {
+      for(std::size_t block = first; block < last; ++block)
       {
-        long& first = first_unknown[r];
-        for(Operator::InnerIterator it(d, Eigen::Index(m_rows[r])); it; ++it)
+        std::vector<Index>& next = next_a[block];
+        for(std::size_t r = block_rows(block); r < block_rows(block + 1); ++r)
         {
-          const std::size_t v = std::size_t(it.col());
-          const long j = m_unknown_index[v];
-          if(j >= 0)
+          Index known = k_outer[r];
+          for(Index k = d_outer[m_rows[r]]; k < row_end(m_rows[r]); ++k)
           {
-            const int k = next_a[std::size_t(j)]++;
-            m_a.innerIndexPtr()[k] = int(r);
-            m_a.valuePtr()[k] = it.value();
-            sum_squares += it.value() * it.value();
-            column_squares[std::size_t(j)] += it.value() * it.value();
-            operator_finite = operator_finite && std::isfinite(it.value());
-            if(first < 0)
-              first = j;
+            const long j = m_unknown_index[std::size_t(d_inner[k])];
+            if(j >= 0)
+            {
+              const Index position = next[std::size_t(j)]++;
+              m_a.innerIndexPtr()[position] = Index(r);
+              m_a.valuePtr()[position] = d_value[k];
+            }
             else
-              components.join(std::size_t(first), std::size_t(j));
-          }
-          else
-          {
-            const int k = next_k[v]++;
-            m_known.innerIndexPtr()[k] = int(r);
-            m_known.valuePtr()[k] = it.value();
-            row_has_known[r] = 1;
+            {
+              m_known.innerIndexPtr()[known] = d_inner[k];
+              m_known.valuePtr()[known++] = d_value[k];
+            }
           }
         }
       }
+    }, 1);
+    std::vector<std::vector<Index>>().swap(next_a);
+
+    // the connected parts of the unknowns (rows join their unknowns), the sum of the squares of
+    // A's entries and their finiteness: one pass in row order; the diagonal of A^T A per column
+    std::vector<long> first_unknown(m_rows.size(), -1);
+    Union_find components(m_unknowns.size());
+    double sum_squares = 0;
+    bool operator_finite = true;
+    for(std::size_t r = 0; r < m_rows.size(); ++r)
+    {
+      long& first = first_unknown[r];
+      for(Index k = d_outer[m_rows[r]]; k < row_end(m_rows[r]); ++k)
+      {
+        const long j = m_unknown_index[std::size_t(d_inner[k])];
+        if(j < 0)
+          continue;
+        const double value = d_value[k];
+        sum_squares += value * value;
+        operator_finite = operator_finite && std::isfinite(value);
+        if(first < 0)
+          first = j;
+        else
+          components.join(std::size_t(first), std::size_t(j));
+      }
     }
+    std::vector<double> column_squares(m_unknowns.size(), 0.);   // the diagonal of A^T A
+    for_each_block(std::size_t(nu), [&](std::size_t begin, std::size_t end) {
+      for(std::size_t j = begin; j < end; ++j)
+        for(Index k = a_outer[j]; k < a_outer[j + 1] - soft_column[j]; ++k)
+          column_squares[j] += m_a.valuePtr()[k] * m_a.valuePtr()[k];
+    });
+    auto row_has_known = [&](std::size_t r) { return k_outer[r + 1] > k_outer[r]; };
 
     // singular configurations: a connected part of the unknowns with no anchor
     std::vector<char> anchored(m_unknowns.size(), 0);
     for(std::size_t r = 0; r < m_rows.size(); ++r)
-      if(row_has_known[r] && first_unknown[r] >= 0)
+      if(row_has_known(r) && first_unknown[r] >= 0)
         anchored[components.find(std::size_t(first_unknown[r]))] = 1;
     for(std::size_t j = 0; j < m_unknowns.size(); ++j)
       if(role[m_unknowns[j]] == SOFT_CONTROL_VERTEX)
@@ -243,7 +308,30 @@ public:
       m_a.valuePtr()[last] = m_lambda;
     }
     const Eigen::Index a_rows = m_a.rows();
-    if(nu > 0 && !m_solver.factor(std::move(m_a)))   // the solver keeps A: no copy
+    // A by rows for A^T A: the rows of D restricted to the unknown columns (the unknowns increase
+    // with the vertex index: the entries of unknown index >= j are those of vertex >= m_unknowns[j]),
+    // then the soft rows
+    auto rows = [&](Index r, Index j, auto&& f) {
+      if(r >= Index(nr))
+      {
+        const std::size_t column = m_soft[std::size_t(r - Index(nr))];
+        if(Index(column) >= j)
+          f(Index(column), m_lambda);
+        return;
+      }
+      const std::size_t a = m_rows[std::size_t(r)];
+      const Index* begin = d_inner + d_outer[a];
+      const Index* end = d_inner + row_end(a);
+      if(j > 0)
+        begin = std::lower_bound(begin, end, Index(m_unknowns[std::size_t(j)]));
+      for(const Index* p = begin; p != end; ++p)
+      {
+        const long u = m_unknown_index[std::size_t(*p)];
+        if(u >= 0)
+          f(Index(u), d_value[p - d_inner]);
+      }
+    };
+    if(nu > 0 && !m_solver.factor_with_rows(std::move(m_a), rows))   // the solver keeps A: no copy
     {
       result.status = m_solver.info() == m_solver.NOT_FINITE ? NON_FINITE_INPUT : FACTORIZATION_FAILED;
       result.message = m_solver.info() == m_solver.NOT_FINITE
@@ -255,7 +343,7 @@ public:
 
     // per-row data for the local step: delta; the cells (rest and current edges, fit weights)
     // are gathered per row in the local step, from m_rest_nodes and the stencils
-    m_delta.resize(nr, 3);
+    resize_dense_huge(m_delta, nr, 3);
     for(std::size_t r = 0; r < m_rows.size(); ++r)
       m_delta.row(Eigen::Index(r)) = delta.row(Eigen::Index(m_rows[r]));
     m_max_degree = 0;
@@ -271,18 +359,19 @@ public:
         needed[s.neighbor[k]] = 1;
     }
     m_needed_nodes.clear();
+    m_needed_nodes.reserve(std::size_t(std::count(needed.begin(), needed.end(), 1)));
     for(std::size_t a = 0; a < s.number_of_nodes; ++a)
       if(needed[a])
         m_needed_nodes.push_back(a);
     assign_huge(m_node_positions, s.number_of_nodes, Eigen::Vector3d(Eigen::Vector3d::Zero()));
     assign_huge(m_transforms, m_fit_nodes.size(), Eigen::Matrix3d(Eigen::Matrix3d::Identity()));
-    m_known_vertices.clear();
-    for(std::size_t v = 0; v < n; ++v)
-      if(m_known.outerIndexPtr()[v + 1] > m_known.outerIndexPtr()[v])
-        m_known_vertices.push_back(v);
+    m_known_vertices.assign(m_known.innerIndexPtr(), m_known.innerIndexPtr() + m_known.nonZeros());
+    std::sort(m_known_vertices.begin(), m_known_vertices.end());
+    m_known_vertices.erase(std::unique(m_known_vertices.begin(), m_known_vertices.end()), m_known_vertices.end());
     m_known_positions.clear();
-    m_known_part.setZero(nr, 3);
-    m_row_energy.assign(std::size_t(a_rows), 0.);
+    resize_dense_huge(m_known_part, nr, 3);
+    m_known_part.setZero();
+    assign_huge(m_row_energy, std::size_t(a_rows), 0.);
     m_has_solution = false;
     m_ready = true;
     return result;
@@ -439,14 +528,18 @@ private:
     if(same)
       return;
     m_known_positions.resize(m_known_vertices.size());
-    m_known_part.setZero();
     for(std::size_t i = 0; i < m_known_vertices.size(); ++i)
-    {
-      const std::size_t v = m_known_vertices[i];
-      const Eigen::Vector3d& p = m_known_positions[i] = positions[v];
-      for(Eigen::SparseMatrix<double>::InnerIterator it(m_known, Eigen::Index(v)); it; ++it)
-        m_known_part.row(it.row()) += it.value() * p.transpose();
-    }
+      m_known_positions[i] = positions[m_known_vertices[i]];
+    // each row's known entries in increasing vertex order
+    for_each_block(std::size_t(m_known.rows()), [&](std::size_t begin, std::size_t end) {
+      for(std::size_t r = begin; r < end; ++r)
+      {
+        Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+        for(Known::InnerIterator it(m_known, Eigen::Index(r)); it; ++it)
+          sum += it.value() * positions[std::size_t(it.col())].transpose();
+        m_known_part.row(Eigen::Index(r)) = sum;
+      }
+    });
   }
 
   // b = T delta - K p_known on the Laplacian rows (the soft rows of b are set once per call),
@@ -580,7 +673,9 @@ private:
   std::vector<std::size_t> m_fit_nodes, m_row_fit;   // the fitted nodes; per row, its fitted node
   std::size_t m_max_degree = 0;
   const std::vector<Eigen::Vector3d>* m_rest_nodes = nullptr;   // P p_rest, owned by the caller
-  Eigen::SparseMatrix<double> m_a, m_known;   // A (handed to m_solver by preprocess()) and K
+  typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Known;
+  Eigen::SparseMatrix<double> m_a;   // A (handed to m_solver by preprocess())
+  Known m_known;                     // K (by rows)
   double m_lambda = 0;
   Eigen::MatrixX3d m_delta, m_solution;
   std::vector<Eigen::Vector3d> m_node_positions;

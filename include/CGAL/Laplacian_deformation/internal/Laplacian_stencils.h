@@ -20,7 +20,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <algorithm>
+#include <iterator>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <type_traits>
 #include <utility>
@@ -75,83 +77,126 @@ struct has_incident_nodes<Nodes, std::void_t<decltype(std::declval<const Nodes&>
 
 // The stencils of the nodes `sequence[i]` (node descriptors, in local index order i): the cells
 // (neighbours, fans) of the nodes with `is_row(i)`, the combination only of the others;
-// `local(b)` is the local index of a neighbour `b` of a row node.
+// `local(b)` is the local index of a neighbour `b` of a row node. Two passes over the nodes, on
+// TBB's threads with `parallel` (then `nodes`, `vertex_index` and `local_of` are read concurrently):
+// the first counts each node's entries, the second writes them in place, so that every array is
+// allocated once at its final size (growing them would touch about twice the memory, and first
+// touches of fresh pages are slow on some machines). The stencils do not depend on `parallel`.
 template <class Nodes, class VertexIndexMap, class Sequence, class IsRow, class Local>
 Laplacian_stencils build_stencils(const Nodes& nodes, std::size_t number_of_vertices, const VertexIndexMap& vertex_index,
-                                  const Sequence& sequence, const IsRow& is_row, const Local& local_of)
+                                  const Sequence& sequence, const IsRow& is_row, const Local& local_of,
+                                  bool parallel = false)
 {
   typedef typename Nodes::node_descriptor node_descriptor;
   Laplacian_stencils s;
-  s.number_of_nodes = sequence.size();
+  const std::size_t m = sequence.size();
+  s.number_of_nodes = m;
   s.number_of_vertices = number_of_vertices;
-
-  // sizes first, so that every array is allocated once at its final size (growing them would
-  // touch about twice the memory, and first touches of fresh pages are slow on some machines)
-  std::size_t combination_size = 0, neighbor_size = 0, fan_size = 0;
-  for(std::size_t i = 0; i < sequence.size(); ++i)
-  {
-    const node_descriptor& a = sequence[i];
-    nodes.combination(a, [&](auto, double) { ++combination_size; });
-    if(!is_row(i))
-      continue;
-    for(node_descriptor b : nodes.neighbors(a))
-    {
-      (void)b;
-      ++neighbor_size;
-    }
-    nodes.fan_triangles(a, [&](node_descriptor, node_descriptor) { ++fan_size; });
-  }
   const std::size_t largest_index = (std::numeric_limits<Stencil_index>::max)();
-  if((std::max)({ sequence.size(), number_of_vertices, combination_size, neighbor_size }) > largest_index)
+  if((std::max)(m, number_of_vertices) > largest_index)
     throw std::length_error("Laplacian_deformation: the mesh is too large for the stencils' 32-bit indices "
                             "(more than 2^32 - 1 nodes, vertices or stencil entries)");
-  s.combination_start.reserve(s.number_of_nodes + 1);
-  s.neighbor_start.reserve(s.number_of_nodes + 1);
-  s.fan_start.reserve(s.number_of_nodes + 1);
-  reserve_huge(s.combination_vertex, combination_size);
-  reserve_huge(s.combination_coefficient, combination_size);
-  reserve_huge(s.neighbor, neighbor_size);
-  reserve_huge(s.fan, fan_size);
-  s.combination_start.push_back(0);
-  s.neighbor_start.push_back(0);
-  s.fan_start.push_back(0);
-  std::vector<std::size_t> neighbor_index;   // the node indices of the current row's neighbours
-  for(std::size_t i = 0; i < sequence.size(); ++i)
-  {
-    const node_descriptor& a = sequence[i];
-    nodes.combination(a, [&](auto v, double c) {
-      s.combination_vertex.push_back(static_cast<Stencil_index>(get(vertex_index, v)));
-      s.combination_coefficient.push_back(c);
-    });
-    if(is_row(i))
+
+  // the counts of node i at i + 1 (fans: all of its fan triangles, an upper bound of those kept)
+  resize_huge(s.combination_start, m + 1);
+  resize_huge(s.neighbor_start, m + 1);
+  resize_huge(s.fan_start, m + 1);
+  s.combination_start[0] = s.neighbor_start[0] = 0;
+  s.fan_start[0] = 0;
+  for_each_block(m, parallel, [&](std::size_t begin, std::size_t end) {
+    for(std::size_t i = begin; i < end; ++i)
     {
-      const std::size_t first = s.neighbor.size();
+      const node_descriptor& a = sequence[i];
+      std::size_t combination = 0, neighbors = 0, fans = 0;
+      nodes.combination(a, [&](auto, double) { ++combination; });
+      if(is_row(i))
+      {
+        for(node_descriptor b : nodes.neighbors(a))
+        {
+          (void)b;
+          ++neighbors;
+        }
+        nodes.fan_triangles(a, [&](node_descriptor, node_descriptor) { ++fans; });
+      }
+      if((std::max)(combination, neighbors) > largest_index)
+        throw std::length_error("Laplacian_deformation: a node has more than 2^32 - 1 stencil entries");
+      s.combination_start[i + 1] = static_cast<Stencil_index>(combination);
+      s.neighbor_start[i + 1] = static_cast<Stencil_index>(neighbors);
+      s.fan_start[i + 1] = fans;
+    }
+  }, 1024);
+  {
+    std::size_t combination = 0, neighbors = 0;
+    for(std::size_t i = 0; i < m; ++i)
+    {
+      combination += s.combination_start[i + 1];
+      neighbors += s.neighbor_start[i + 1];
+      if((std::max)(combination, neighbors) > largest_index)
+        throw std::length_error("Laplacian_deformation: the mesh is too large for the stencils' 32-bit indices "
+                                "(more than 2^32 - 1 nodes, vertices or stencil entries)");
+      s.combination_start[i + 1] = static_cast<Stencil_index>(combination);
+      s.neighbor_start[i + 1] = static_cast<Stencil_index>(neighbors);
+      s.fan_start[i + 1] += s.fan_start[i];
+    }
+  }
+  resize_huge(s.combination_vertex, s.combination_start[m]);
+  resize_huge(s.combination_coefficient, s.combination_start[m]);
+  resize_huge(s.neighbor, s.neighbor_start[m]);
+  resize_huge(s.fan, s.fan_start[m]);
+  std::vector<std::size_t> fans_kept(m, 0);   // per node: its fan triangles whose vertices are neighbours
+  for_each_block(m, parallel, [&](std::size_t begin, std::size_t end) {
+    std::vector<std::size_t> neighbor_index;   // the node indices of the current row's neighbours
+    for(std::size_t i = begin; i < end; ++i)
+    {
+      const node_descriptor& a = sequence[i];
+      std::size_t k = s.combination_start[i];
+      nodes.combination(a, [&](auto v, double c) {
+        s.combination_vertex[k] = static_cast<Stencil_index>(get(vertex_index, v));
+        s.combination_coefficient[k++] = c;
+      });
+      if(!is_row(i))
+        continue;
+      const std::size_t first = s.neighbor_start[i], last = s.neighbor_start[i + 1];
       neighbor_index.clear();
+      k = first;
       for(node_descriptor b : nodes.neighbors(a))
       {
-        s.neighbor.push_back(static_cast<Stencil_index>(local_of(b)));
+        s.neighbor[k++] = static_cast<Stencil_index>(local_of(b));
         neighbor_index.push_back(nodes.index(b));
       }
-      const std::size_t last = s.neighbor.size();
       // the position of a fan vertex among the neighbours, found by its node index (local_of() may
       // be a binary search; a fan triangle has two vertices and a cell about twenty triangles)
       auto local = [&](node_descriptor b) {
         const std::size_t ib = nodes.index(b);
-        for(std::size_t k = 0; k < neighbor_index.size(); ++k)
-          if(neighbor_index[k] == ib)
-            return k;
+        for(std::size_t j = 0; j < neighbor_index.size(); ++j)
+          if(neighbor_index[j] == ib)
+            return j;
         CGAL_assertion_msg(false, "a fan triangle vertex is not a neighbour of the node");
         return last - first;
       };
+      std::size_t f = s.fan_start[i];
       nodes.fan_triangles(a, [&](node_descriptor b, node_descriptor c) {
         const std::array<std::size_t, 2> t{ local(b), local(c) };
         if(t[0] < last - first && t[1] < last - first)
-          s.fan.push_back(t);
+          s.fan[f++] = t;
       });
+      fans_kept[i] = f - s.fan_start[i];
     }
-    s.combination_start.push_back(static_cast<Stencil_index>(s.combination_vertex.size()));
-    s.neighbor_start.push_back(static_cast<Stencil_index>(s.neighbor.size()));
-    s.fan_start.push_back(s.fan.size());
+  }, 1024);
+  // the fan triangles left out (a vertex that is not a neighbour): close the gaps
+  if(std::accumulate(fans_kept.begin(), fans_kept.end(), std::size_t(0)) != s.fan_start[m])
+  {
+    std::size_t next = 0;
+    for(std::size_t i = 0; i < m; ++i)
+    {
+      const std::size_t begin = s.fan_start[i];
+      s.fan_start[i] = next;
+      std::copy(s.fan.begin() + std::ptrdiff_t(begin), s.fan.begin() + std::ptrdiff_t(begin + fans_kept[i]),
+                s.fan.begin() + std::ptrdiff_t(next));
+      next += fans_kept[i];
+    }
+    s.fan_start[m] = next;
+    s.fan.resize(next);
   }
   assign_huge(s.weight, s.neighbor.size(), 0.);
   return s;
@@ -161,14 +206,14 @@ Laplacian_stencils build_stencils(const Nodes& nodes, std::size_t number_of_vert
 // index; `vertex_index` maps mesh vertices to [0, number_of_vertices).
 template <class Nodes, class VertexIndexMap>
 Laplacian_stencils laplacian_stencils(const Nodes& nodes, std::size_t number_of_vertices,
-                                      const VertexIndexMap& vertex_index)
+                                      const VertexIndexMap& vertex_index, bool parallel = false)
 {
   typedef typename Nodes::node_descriptor node_descriptor;
   std::vector<node_descriptor> by_index(nodes.number_of_nodes());
   for(node_descriptor a : nodes.nodes())
     by_index[nodes.index(a)] = a;
   return build_stencils(nodes, number_of_vertices, vertex_index, by_index, [](std::size_t) { return true; },
-                        [&nodes](const node_descriptor& b) { return nodes.index(b); });
+                        [&nodes](const node_descriptor& b) { return nodes.index(b); }, parallel);
 }
 
 // The stencils of the nodes near the mesh vertices `region` (needs `incident_nodes()`, see
@@ -183,7 +228,8 @@ Laplacian_stencils laplacian_stencils(const Nodes& nodes, std::size_t number_of_
 // node once, and a table of the local indices when the neighbourhood is a large part of the mesh).
 template <class Nodes, class VertexIndexMap, class VertexRange>
 Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t number_of_vertices,
-                                           const VertexIndexMap& vertex_index, const VertexRange& region)
+                                           const VertexIndexMap& vertex_index, const VertexRange& region,
+                                           bool parallel = false)
 {
   typedef typename Nodes::node_descriptor node_descriptor;
   typedef std::pair<std::size_t, node_descriptor> Entry;
@@ -202,6 +248,7 @@ Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t numbe
       all.emplace_back(g, a);
     }
   };
+  all.reserve((std::min)(nodes.number_of_nodes(), 8 * std::size_t(std::distance(region.begin(), region.end())) + 64));
   for(const auto& v : region)
     nodes.incident_nodes(v, [&](const node_descriptor& a) { meet(a, 1); });
   const std::size_t number_of_seeds = all.size();
@@ -242,7 +289,7 @@ Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t numbe
     return std::size_t(std::lower_bound(global_node.begin(), global_node.end(), Stencil_index(g)) - global_node.begin());
   };
   Laplacian_stencils s = build_stencils(nodes, number_of_vertices, vertex_index, sequence,
-                                        [&is_row](std::size_t i) { return is_row[i] != 0; }, local_of);
+                                        [&is_row](std::size_t i) { return is_row[i] != 0; }, local_of, parallel);
   s.global_node.swap(global_node);
   return s;
 }
@@ -309,79 +356,110 @@ inline Eigen::SparseMatrix<double> combination_matrix(const Laplacian_stencils& 
   return p;
 }
 
+// The terms of row a of D = L_w P (see laplacian_operator()) merged by vertex: f(v, D(a, v)) in
+// increasing v, exact zeros dropped; `terms` is scratch.
+template <class F>
+void laplacian_operator_row(const Laplacian_stencils& s, std::size_t a,
+                            std::vector<std::pair<std::size_t, double>>& terms, const F& f)
+{
+  terms.clear();
+  double diagonal = 0;
+  for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
+  {
+    const std::size_t b = s.neighbor[k];
+    diagonal += s.weight[k];
+    for(std::size_t j = s.combination_start[b]; j < s.combination_start[b + 1]; ++j)
+      terms.emplace_back(s.combination_vertex[j], -s.weight[k] * s.combination_coefficient[j]);
+  }
+  if(s.neighbor_start[a + 1] > s.neighbor_start[a])
+    for(std::size_t j = s.combination_start[a]; j < s.combination_start[a + 1]; ++j)
+      terms.emplace_back(s.combination_vertex[j], diagonal * s.combination_coefficient[j]);
+  // a stable insertion sort: a row has a few dozen terms (std::stable_sort would allocate)
+  for(std::size_t i = 1; i < terms.size(); ++i)
+  {
+    const std::pair<std::size_t, double> t = terms[i];
+    std::size_t j = i;
+    for(; j > 0 && terms[j - 1].first > t.first; --j)
+      terms[j] = terms[j - 1];
+    terms[j] = t;
+  }
+  for(std::size_t i = 0; i < terms.size();)
+  {
+    const std::size_t v = terms[i].first;
+    double sum = 0.;
+    for(; i < terms.size() && terms[i].first == v; ++i)
+      sum += terms[i].second;
+    if(sum != 0)
+      f(v, sum);
+  }
+}
+
 // The Laplacian operator D = L_w P (rows: nodes, columns: vertices; stored by rows),
 // delta_a = sum_b w_ab (x_a - x_b) = (D p)_a. Assembled row by row (row a combines the
 // vertices of x_a and of its neighbours) without forming L_w and the sparse product: the terms
 // of a row, in the order neighbours then x_a, are stably sorted by vertex and each entry is the
-// sum of its terms in that order; exact zeros (cancellations) are dropped. No memory
-// proportional to the mesh but the row pointers.
-inline Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_operator(const Laplacian_stencils& s)
+// sum of its terms in that order; exact zeros (cancellations) are dropped. Two passes over the
+// rows, on TBB's threads with `parallel`: the first counts each row's entries, the second writes
+// them in place (the matrix is allocated once at its size and written once: no copy, and fresh
+// memory is slow to touch on some machines). No other memory proportional to the mesh.
+inline Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_operator(const Laplacian_stencils& s,
+                                                                       bool parallel = false)
 {
   typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Row_major;
-  std::vector<int> outer(s.number_of_nodes + 1, 0), inner;
-  std::vector<double> values;
-  std::vector<std::pair<std::size_t, double>> terms;
-  reserve_huge(inner, 4 * s.neighbor.size());
-  reserve_huge(values, 4 * s.neighbor.size());
+  typedef Row_major::StorageIndex Index;
+  Row_major d(Eigen::Index(s.number_of_nodes), Eigen::Index(s.number_of_vertices));
+  Index* outer = d.outerIndexPtr();
+  outer[0] = 0;
+  for_each_block(s.number_of_nodes, parallel, [&](std::size_t begin, std::size_t end) {
+    std::vector<std::pair<std::size_t, double>> terms;
+    for(std::size_t a = begin; a < end; ++a)
+    {
+      Index count = 0;
+      laplacian_operator_row(s, a, terms, [&count](std::size_t, double) { ++count; });
+      outer[a + 1] = count;
+    }
+  }, 1024);
   for(std::size_t a = 0; a < s.number_of_nodes; ++a)
   {
-    terms.clear();
-    double diagonal = 0;
-    for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
-    {
-      const std::size_t b = s.neighbor[k];
-      diagonal += s.weight[k];
-      for(std::size_t j = s.combination_start[b]; j < s.combination_start[b + 1]; ++j)
-        terms.emplace_back(s.combination_vertex[j], -s.weight[k] * s.combination_coefficient[j]);
-    }
-    if(s.neighbor_start[a + 1] > s.neighbor_start[a])
-      for(std::size_t j = s.combination_start[a]; j < s.combination_start[a + 1]; ++j)
-        terms.emplace_back(s.combination_vertex[j], diagonal * s.combination_coefficient[j]);
-    // a stable insertion sort: a row has a few dozen terms (std::stable_sort would allocate)
-    for(std::size_t i = 1; i < terms.size(); ++i)
-    {
-      const std::pair<std::size_t, double> t = terms[i];
-      std::size_t j = i;
-      for(; j > 0 && terms[j - 1].first > t.first; --j)
-        terms[j] = terms[j - 1];
-      terms[j] = t;
-    }
-    for(std::size_t i = 0; i < terms.size();)
-    {
-      const std::size_t v = terms[i].first;
-      double sum = 0.;
-      for(; i < terms.size() && terms[i].first == v; ++i)
-        sum += terms[i].second;
-      if(sum != 0)
-      {
-        inner.push_back(int(v));
-        values.push_back(sum);
-      }
-    }
-    outer[a + 1] = int(inner.size());
+    if(std::size_t(outer[a]) + std::size_t(outer[a + 1]) > std::size_t((std::numeric_limits<Index>::max)()))
+      throw std::length_error("Laplacian_deformation: the operator has more entries than its sparse storage's "
+                              "indices can count (2^31 - 1)");
+    outer[a + 1] += outer[a];
   }
-  // copied into a matrix of its exact size, whose fresh storage is advised before it is written
-  Row_major d(Eigen::Index(s.number_of_nodes), Eigen::Index(s.number_of_vertices));
-  d.resizeNonZeros(Eigen::Index(values.size()));
-  advise_sparse_storage(d);
-  std::copy(outer.begin(), outer.end(), d.outerIndexPtr());
-  std::copy(inner.begin(), inner.end(), d.innerIndexPtr());
-  std::copy(values.begin(), values.end(), d.valuePtr());
+  d.resizeNonZeros(Eigen::Index(outer[s.number_of_nodes]));
+  advise_sparse_storage(d);   // fresh storage, advised before it is written
+  Index* inner = d.innerIndexPtr();
+  double* values = d.valuePtr();
+  for_each_block(s.number_of_nodes, parallel, [&](std::size_t begin, std::size_t end) {
+    std::vector<std::pair<std::size_t, double>> terms;
+    for(std::size_t a = begin; a < end; ++a)
+    {
+      Index next = outer[a];
+      laplacian_operator_row(s, a, terms, [&](std::size_t v, double value) {
+        inner[next] = Index(v);
+        values[next++] = value;
+      });
+    }
+  }, 1024);
   return d;
 }
 
-// delta = D p for the vertex positions `p`, row by row (no dense copy of `p`).
+// delta = D p for the vertex positions `p`, row by row (no dense copy of `p`), on TBB's threads
+// with `parallel` (each row is its own sum: the same values either way).
 inline Eigen::MatrixX3d operator_times_positions(const Eigen::SparseMatrix<double, Eigen::RowMajor>& d,
-                                                 const std::vector<Eigen::Vector3d>& p)
+                                                 const std::vector<Eigen::Vector3d>& p, bool parallel = false)
 {
-  Eigen::MatrixX3d delta(d.rows(), 3);
-  for(Eigen::Index r = 0; r < d.rows(); ++r)
-  {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for(Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(d, r); it; ++it)
-      sum += it.value() * p[std::size_t(it.col())];
-    delta.row(r) = sum.transpose();
-  }
+  Eigen::MatrixX3d delta;
+  resize_dense_huge(delta, d.rows(), 3);
+  for_each_block(std::size_t(d.rows()), parallel, [&](std::size_t begin, std::size_t end) {
+    for(Eigen::Index r = Eigen::Index(begin); r < Eigen::Index(end); ++r)
+    {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for(Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(d, r); it; ++it)
+        sum += it.value() * p[std::size_t(it.col())];
+      delta.row(r) = sum.transpose();
+    }
+  }, 1024);
   return delta;
 }
 
@@ -434,12 +512,12 @@ void build_weighted_stencils(Laplacian_stencils& s, std::vector<Eigen::Vector3d>
   if constexpr(has_incident_nodes<Nodes>::value)
   {
     if(region != nullptr)
-      s = laplacian_stencils_near(nodes, rest.size(), vertex_index, *region);
+      s = laplacian_stencils_near(nodes, rest.size(), vertex_index, *region, parallel);
     else
-      s = laplacian_stencils(nodes, rest.size(), vertex_index);
+      s = laplacian_stencils(nodes, rest.size(), vertex_index, parallel);
   }
   else
-    s = laplacian_stencils(nodes, rest.size(), vertex_index);
+    s = laplacian_stencils(nodes, rest.size(), vertex_index, parallel);
   node_positions(s, rest, rest_nodes);
   double largest = 0;
   if(scale_safe)
@@ -459,10 +537,10 @@ void build_rest_operator(Rest_operator& r, const Nodes& nodes, const VertexIndex
   std::vector<std::array<std::size_t, 2>>().swap(r.stencils.fan);
   std::vector<std::size_t>().swap(r.stencils.fan_start);
   {
-    Eigen::SparseMatrix<double, Eigen::RowMajor> d = laplacian_operator(r.stencils);
+    Eigen::SparseMatrix<double, Eigen::RowMajor> d = laplacian_operator(r.stencils, parallel);
     r.d.swap(d);   // an assignment would copy it (no move assignment in Eigen 3.4)
   }
-  r.delta = operator_times_positions(r.d, rest);
+  r.delta = operator_times_positions(r.d, rest, parallel);
 }
 
 } // namespace internal

@@ -20,6 +20,7 @@
 #include <cstdlib>
 #include <algorithm>
 #include <cstring>
+#include <new>
 #include <vector>
 
 #if defined(__linux__) && !defined(CGAL_LAPLACIAN_DEFORMATION_NO_HUGE_PAGES)
@@ -153,6 +154,34 @@ SparseMatrix transposed_advised(const SparseMatrix& a)
     }
   return t;
 }
+
+// An allocator for standard containers whose large blocks (4 MiB and more) are advised before
+// they are written: the vectors of a preprocess that grow or are sized at run time.
+template <class T>
+struct Huge_allocator
+{
+  typedef T value_type;
+  Huge_allocator() = default;
+  template <class U>
+  Huge_allocator(const Huge_allocator<U>&) {}
+  T* allocate(std::size_t n)
+  {
+    if(n > std::size_t(-1) / sizeof(T))
+      throw std::bad_alloc();
+    void* p = std::malloc(n * sizeof(T) + (n == 0));
+    if(p == nullptr)
+      throw std::bad_alloc();
+    advise_huge_pages(p, n * sizeof(T));
+    return static_cast<T*>(p);
+  }
+  void deallocate(T* p, std::size_t) { std::free(p); }
+  template <class U>
+  bool operator==(const Huge_allocator<U>&) const { return true; }
+  template <class U>
+  bool operator!=(const Huge_allocator<U>&) const { return false; }
+};
+template <class T>
+using Huge_vector = std::vector<T, Huge_allocator<T>>;
 
 // Allocation functions for SuiteSparse (CHOLMOD's factor is the largest array of a preprocess):
 // the C library's, and an advice for large blocks. free() is the C library's.

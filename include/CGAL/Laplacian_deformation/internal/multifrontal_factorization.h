@@ -21,6 +21,7 @@
 // CHOLMOD's own factorisation. With OpenBLAS, its thread count is set to 1 while subtrees are
 // factored concurrently and restored afterwards (a process-wide setting of OpenBLAS).
 
+#include <CGAL/Laplacian_deformation/internal/huge_pages.h>
 #include <CGAL/Laplacian_deformation/internal/parallel.h>
 #include <CGAL/Laplacian_deformation/internal/supernodal_solve.h>
 #include <CGAL/use.h>
@@ -38,8 +39,10 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <new>
 #include <queue>
 #include <utility>
 #include <vector>
@@ -145,7 +148,9 @@ public:
     // N's entries grouped by the supernode of their column in P N P^T, each with its offset in the
     // supernode's block
     const std::size_t nnz = std::size_t(outer[n]);
-    std::vector<int> entry_row(nnz, -1), entry_col(nnz, -1);
+    Huge_vector<int> entry_row, entry_col;   // fresh arrays of N's size: advised (first touches)
+    assign_huge(entry_row, nnz, -1);
+    assign_huge(entry_col, nnz, -1);
     m_entry_start.assign(ns + 1, 0);
     for(int j = 0; j < n; ++j)
       for(int k = outer[j]; k < outer[j + 1]; ++k)
@@ -160,8 +165,8 @@ public:
       }
     for(std::size_t s = 0; s < ns; ++s)
       m_entry_start[s + 1] += m_entry_start[s];
-    m_entry_source.assign(std::size_t(m_entry_start[ns]), 0);
-    m_entry_offset.assign(std::size_t(m_entry_start[ns]), 0);
+    assign_huge(m_entry_source, std::size_t(m_entry_start[ns]), 0);
+    assign_huge(m_entry_offset, std::size_t(m_entry_start[ns]), 0);
     {
       std::vector<int> fill(m_entry_start.begin(), m_entry_start.end() - 1);
       for(std::size_t k = 0; k < nnz; ++k)
@@ -354,9 +359,14 @@ private:
     std::fill(x, x + std::size_t(nr) * std::size_t(nc), 0.);
     for(int e = m_entry_start[std::size_t(s)]; e < m_entry_start[std::size_t(s) + 1]; ++e)
       x[m_entry_offset[std::size_t(e)]] += values[m_entry_source[std::size_t(e)]];
-    std::unique_ptr<double[]> update;
+    Update_matrix update;
     if(m > 0)
-      update.reset(new double[std::size_t(m) * std::size_t(m)]());
+    {
+      // zeroed; a large one is a fresh mapping (calloc writes nothing), advised before it is written
+      update.reset(static_cast<double*>(huge_calloc(std::size_t(m) * std::size_t(m), sizeof(double))));
+      if(!update)
+        throw std::bad_alloc();
+    }
     double* u = update.get();
     // the children's update matrices, in index order
     const int c0 = m_child_start[std::size_t(s)], c1 = m_child_start[std::size_t(s) + 1];
@@ -416,10 +426,16 @@ private:
   bool m_valid = false;
   int m_n = 0, m_nsuper = 0;
   std::vector<int> m_parent, m_child_start, m_children, m_first;
-  std::vector<int> m_entry_start, m_entry_source, m_entry_offset;
+  std::vector<int> m_entry_start;
+  Huge_vector<int> m_entry_source, m_entry_offset;
   std::vector<int> m_subtrees, m_top;   // concurrent subtrees (their roots), then the top in order
   double m_top_share = 1;
-  std::vector<std::unique_ptr<double[]>> m_update;
+  struct Free
+  {
+    void operator()(double* p) const { std::free(p); }
+  };
+  typedef std::unique_ptr<double, Free> Update_matrix;
+  std::vector<Update_matrix> m_update;
   int m_failed_column = 0;
 };
 

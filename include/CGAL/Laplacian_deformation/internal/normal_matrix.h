@@ -5,6 +5,7 @@
 #ifndef CGAL_LAPLACIAN_DEFORMATION_INTERNAL_NORMAL_MATRIX_H
 #define CGAL_LAPLACIAN_DEFORMATION_INTERNAL_NORMAL_MATRIX_H
 
+#include <CGAL/assertions.h>
 #include <CGAL/Eigen_solver_traits.h>
 #include <CGAL/Laplacian_deformation/internal/huge_pages.h>
 #include <CGAL/Laplacian_deformation/internal/parallel.h>
@@ -39,40 +40,31 @@ template <class S>
 struct Solver_traits_read_lower_triangle<CGAL::Eigen_solver_traits<S>> : Eigen_solver_reads_lower_triangle<S> {};
 
 // N = A^T A, column by column: N(:, j) = sum over the rows r of column j of A of
-// A(r, j) * A(r, :)^T, where A(r, :)^T is column r of `at` = A^T (compressed, sorted). With
-// `lower_only`, only the entries i >= j. The result is compressed with sorted columns; every
-// structural entry is kept (also a sum that cancels to zero). A symbolic pass counts the entries
-// of each column, so that the result is allocated once; a dense accumulator and a marker per
-// thread replace the general sparse product's sorting of the whole result. With `parallel`
-// (and TBB), columns are processed on TBB's threads; every entry is the same sum in the same order.
-inline Eigen::SparseMatrix<double> normal_matrix(const Eigen::SparseMatrix<double>& a,
-                                                 const Eigen::SparseMatrix<double>& at, bool lower_only,
-                                                 bool parallel = false)
+// A(r, j) * A(r, :)^T. `a` is A (compressed, sorted columns); `rows(r, j, f)` calls f(i, A(r, i))
+// for the entries i >= j of row r of A, in increasing i (the same values as `a`'s: A by rows in
+// any form, such as A^T's columns or the operator the caller assembled A from, so that A^T need
+// not be formed). With `lower_only`, only the entries i >= j of N. The result is compressed with
+// sorted columns; every structural entry is kept (also a sum that cancels to zero). A symbolic
+// pass counts the entries of each column, so that the result is allocated once; a dense
+// accumulator and a marker per thread replace the general sparse product's sorting of the whole
+// result. With `parallel` (and TBB), columns are processed on TBB's threads; every entry is the
+// same sum in the same order.
+template <class Rows>
+Eigen::SparseMatrix<double> normal_matrix_from_rows(const Eigen::SparseMatrix<double>& a, const Rows& rows,
+                                                    bool lower_only, bool parallel = false)
 {
   typedef Eigen::SparseMatrix<double>::StorageIndex Index;
-  if(!a.isCompressed() || !at.isCompressed())
-  {
-    Eigen::SparseMatrix<double> a_compressed(a), at_compressed(at);
-    a_compressed.makeCompressed();
-    at_compressed.makeCompressed();
-    return normal_matrix(a_compressed, at_compressed, lower_only, parallel);
-  }
+  CGAL_precondition(a.isCompressed());
   const Eigen::Index n = a.cols();
   const Index* a_outer = a.outerIndexPtr();
   const Index* a_inner = a.innerIndexPtr();
   const double* a_value = a.valuePtr();
-  const Index* t_outer = at.outerIndexPtr();
-  const Index* t_inner = at.innerIndexPtr();
-  const double* t_value = at.valuePtr();
   // f(i, A(r, j), A(r, i)) for every term of column j
   auto for_each_term = [&](Index j, auto&& f) {
     for(Index k = a_outer[j]; k < a_outer[j + 1]; ++k)
     {
-      const Index r = a_inner[k];
-      const Index* begin = t_inner + t_outer[r];
-      const Index* end = t_inner + t_outer[r + 1];
-      for(const Index* p = lower_only ? std::lower_bound(begin, end, j) : begin; p != end; ++p)
-        f(*p, a_value[k], t_value[p - t_inner]);
+      const double arj = a_value[k];
+      rows(a_inner[k], lower_only ? j : Index(0), [&](Index i, double ari) { f(i, arj, ari); });
     }
   };
   struct Workspace
@@ -142,6 +134,31 @@ inline Eigen::SparseMatrix<double> normal_matrix(const Eigen::SparseMatrix<doubl
     }
   }, 512);
   return result;
+}
+
+// normal_matrix_from_rows() with the rows of A read from `at` = A^T (compressed, sorted columns).
+inline Eigen::SparseMatrix<double> normal_matrix(const Eigen::SparseMatrix<double>& a,
+                                                 const Eigen::SparseMatrix<double>& at, bool lower_only,
+                                                 bool parallel = false)
+{
+  typedef Eigen::SparseMatrix<double>::StorageIndex Index;
+  if(!a.isCompressed() || !at.isCompressed())
+  {
+    Eigen::SparseMatrix<double> a_compressed(a), at_compressed(at);
+    a_compressed.makeCompressed();
+    at_compressed.makeCompressed();
+    return normal_matrix(a_compressed, at_compressed, lower_only, parallel);
+  }
+  const Index* t_outer = at.outerIndexPtr();
+  const Index* t_inner = at.innerIndexPtr();
+  const double* t_value = at.valuePtr();
+  auto rows = [&](Index r, Index j, auto&& f) {
+    const Index* begin = t_inner + t_outer[r];
+    const Index* end = t_inner + t_outer[r + 1];
+    for(const Index* p = j > 0 ? std::lower_bound(begin, end, j) : begin; p != end; ++p)
+      f(*p, t_value[p - t_inner]);
+  };
+  return normal_matrix_from_rows(a, rows, lower_only, parallel);
 }
 
 } // namespace internal
