@@ -143,7 +143,10 @@ inline const char* usage_text()
 "  -h, --help            this help\n"
 "\n"
 "Files are written atomically (temporary file, then rename). Exit status: 0 success,\n"
-"1 bad input or failed deformation, 2 bad command line.\n";
+"1 bad input or failed deformation, 2 bad command line.\n"
+"On Linux with glibc the tool starts itself again with GLIBC_TUNABLES=glibc.malloc.hugetlb=1\n"
+"(huge pages for its large blocks) unless GLIBC_TUNABLES is set or\n"
+"CGAL_LAPLACIAN_DEFORMATION_HUGE_PAGES=0.\n";
 }
 
 } // namespace laplacian_deform

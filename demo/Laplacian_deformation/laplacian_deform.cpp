@@ -15,6 +15,9 @@
 #endif
 
 #include <cstdlib>
+#if defined(__linux__)
+#include <unistd.h>
+#endif
 #include <iomanip>
 #include <memory>
 
@@ -284,7 +287,9 @@ int run_tool(const std::vector<std::string>& args, std::ostream& out, std::ostre
                            {"constraints", o.soft ? "soft" : "hard"}, {"soft_weight", o.soft ? o.soft_weight : 0.},
                            {"threads", threads}}},
               {"runs", js_runs},
-              {"outputs", written}};
+              {"outputs", written},
+              // what the process ran with (the tool sets GLIBC_TUNABLES for itself: see main())
+              {"environment", {{"GLIBC_TUNABLES", std::getenv("GLIBC_TUNABLES") ? std::getenv("GLIBC_TUNABLES") : ""}}}};
   }
 
   // the outputs, each written atomically
@@ -354,8 +359,33 @@ int run_tool(const std::vector<std::string>& args, std::ostream& out, std::ostre
 
 int laplacian_deform_serve(int argc, char** argv);   // laplacian_deform_serve.cpp
 
+namespace {
+// On Linux with glibc, the tool starts itself again (same arguments) with
+// GLIBC_TUNABLES=glibc.malloc.hugetlb=1 when that variable is not set: the C library then asks
+// for transparent huge pages for every large block of the process (glibc 2.35 or later; older
+// ones ignore the tunable). A fresh 4 KiB page costs a page fault when it is first written, and a
+// big mesh's preprocess writes hundreds of MB (see the manual's "First touch and huge pages").
+// Nothing is restarted when GLIBC_TUNABLES is set (the user's choice is kept) or when
+// CGAL_LAPLACIAN_DEFORMATION_HUGE_PAGES=0; if the restart fails, the tool runs as it is.
+void restart_with_huge_pages(char** argv)
+{
+#if defined(__linux__) && defined(__GLIBC__)
+  const char* off = std::getenv("CGAL_LAPLACIAN_DEFORMATION_HUGE_PAGES");
+  if(std::getenv("GLIBC_TUNABLES") != nullptr || (off != nullptr && std::string(off) == "0"))
+    return;
+  if(setenv("GLIBC_TUNABLES", "glibc.malloc.hugetlb=1", 1) != 0)
+    return;
+  execv("/proc/self/exe", argv);
+  unsetenv("GLIBC_TUNABLES");   // not restarted: run without it
+#else
+  (void)argv;
+#endif
+}
+} // namespace
+
 int main(int argc, char** argv)
 {
+  restart_with_huge_pages(argv);
   try
   {
     // laplacian_deform --serve [MESH] [--port N] [--output DIR]: the browser editor

@@ -529,6 +529,39 @@ TEST_F(LaplacianDeformTool, CactusTaskReproducesTheLibraryExactly)
                                                      LD::Anchored_scaled_rotation_transform>(LD::ROTATION_START));
 }
 
+// On Linux with glibc the tool restarts itself with GLIBC_TUNABLES=glibc.malloc.hugetlb=1 (huge
+// pages for its large blocks) unless GLIBC_TUNABLES is set or CGAL_LAPLACIAN_DEFORMATION_HUGE_PAGES=0;
+// the result is the library's, bit for bit, either way
+TEST_F(LaplacianDeformTool, RestartsWithHugePagesAndGivesTheSameResult)
+{
+  struct Case
+  {
+    std::string environment, expected;
+  };
+#if defined(__linux__) && defined(__GLIBC__)
+  const std::string restarted = "glibc.malloc.hugetlb=1";
+#else
+  const std::string restarted = "";
+#endif
+  const Case cases[] = {{"env -u GLIBC_TUNABLES", restarted},
+                        {"env -u GLIBC_TUNABLES CGAL_LAPLACIAN_DEFORMATION_HUGE_PAGES=0", ""},
+                        {"env GLIBC_TUNABLES=glibc.malloc.hugetlb=0", "glibc.malloc.hugetlb=0"}};
+  const cli::Mesh expected = library_result<LD::Edge_based_representation>();
+  int k = 0;
+  for(const Case& c : cases)
+  {
+    const std::string out = "edge" + std::to_string(k) + ".off", report = "report" + std::to_string(k++) + ".json";
+    const std::string command = "cd " + shell_quote(dir.string()) + " && " + c.environment + " " +
+                                shell_quote(LAPLACIAN_DEFORM_TOOL) + " " + shell_quote(cactus) + " " + shell_quote(sel) +
+                                " " + shell_quote(def) + " -o " + out + " --report " + report + " --quiet";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << command;
+    expect_identical(dir / out, expected);
+    const nlohmann::json r = nlohmann::json::parse(read_file(dir / report));
+    EXPECT_EQ(r["environment"]["GLIBC_TUNABLES"], c.expected) << c.environment;
+  }
+}
+
 TEST_F(LaplacianDeformTool, MainJobReproducesTheLibraryWithBothRepresentations)
 {
   // the default task, as scripts/demo.sh runs it (no argument), here with an explicit folder

@@ -311,22 +311,27 @@ public:
     // A by rows for A^T A: the rows of D restricted to the unknown columns (the unknowns increase
     // with the vertex index: the entries of unknown index >= j are those of vertex >= m_unknowns[j]),
     // then the soft rows
-    auto rows = [&](Index r, Index j, auto&& f) {
+    const long* const unknown_index = m_unknown_index.data();
+    const std::size_t* const unknowns = m_unknowns.data();
+    const std::size_t* const system_rows = m_rows.data();
+    const std::size_t* const soft = m_soft.data();
+    const double lambda = m_lambda;
+    auto rows = [=](Index r, Index j, auto&& f) {
       if(r >= Index(nr))
       {
-        const std::size_t column = m_soft[std::size_t(r - Index(nr))];
+        const std::size_t column = soft[std::size_t(r - Index(nr))];
         if(Index(column) >= j)
-          f(Index(column), m_lambda);
+          f(Index(column), lambda);
         return;
       }
-      const std::size_t a = m_rows[std::size_t(r)];
+      const std::size_t a = system_rows[std::size_t(r)];
       const Index* begin = d_inner + d_outer[a];
-      const Index* end = d_inner + row_end(a);
+      const Index* const end = d_inner + (d_nonzeros ? d_outer[a] + d_nonzeros[a] : d_outer[a + 1]);
       if(j > 0)
-        begin = std::lower_bound(begin, end, Index(m_unknowns[std::size_t(j)]));
+        begin = std::lower_bound(begin, end, Index(unknowns[std::size_t(j)]));
       for(const Index* p = begin; p != end; ++p)
       {
-        const long u = m_unknown_index[std::size_t(*p)];
+        const long u = unknown_index[*p];
         if(u >= 0)
           f(Index(u), d_value[p - d_inner]);
       }

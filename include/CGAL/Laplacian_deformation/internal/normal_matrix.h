@@ -56,17 +56,19 @@ Eigen::SparseMatrix<double> normal_matrix_from_rows(const Eigen::SparseMatrix<do
   typedef Eigen::SparseMatrix<double>::StorageIndex Index;
   CGAL_precondition(a.isCompressed());
   const Eigen::Index n = a.cols();
-  const Index* a_outer = a.outerIndexPtr();
-  const Index* a_inner = a.innerIndexPtr();
-  const double* a_value = a.valuePtr();
+  const Index* const a_outer = a.outerIndexPtr();
+  const Index* const a_inner = a.innerIndexPtr();
+  const double* const a_value = a.valuePtr();
   // f(i, A(r, j), A(r, i)) for every term of column j
-  auto for_each_term = [&](Index j, auto&& f) {
+  auto for_each_term = [a_outer, a_inner, a_value, &rows, lower_only](Index j, auto&& f) {
     for(Index k = a_outer[j]; k < a_outer[j + 1]; ++k)
     {
       const double arj = a_value[k];
       rows(a_inner[k], lower_only ? j : Index(0), [&](Index i, double ari) { f(i, arj, ari); });
     }
   };
+  // the inner loops work on raw pointers held in locals: a write through a vector (a push_back)
+  // would make the compiler reload every captured pointer at each term
   struct Workspace
   {
     std::vector<Index> mark, touched;
@@ -77,6 +79,7 @@ Eigen::SparseMatrix<double> normal_matrix_from_rows(const Eigen::SparseMatrix<do
     if(w.mark.size() != std::size_t(n))
     {
       w.mark.assign(std::size_t(n), -1);
+      w.touched.assign(std::size_t(n), 0);
       w.accumulator.assign(std::size_t(n), 0.);
     }
     return w;
@@ -88,14 +91,14 @@ Eigen::SparseMatrix<double> normal_matrix_from_rows(const Eigen::SparseMatrix<do
     Per_thread<Workspace> per_thread(parallel);
     outer[0] = 0;
     for_each_block(std::size_t(n), parallel, [&](std::size_t begin, std::size_t end) {
-      Workspace& w = workspace(per_thread);
+      Index* const mark = workspace(per_thread).mark.data();
       for(Index j = Index(begin); j < Index(end); ++j)
       {
         Index count = 0;
-        for_each_term(j, [&](Index i, double, double) {
-          if(w.mark[std::size_t(i)] != j)
+        for_each_term(j, [mark, j, &count](Index i, double, double) {
+          if(mark[i] != j)
           {
-            w.mark[std::size_t(i)] = j;
+            mark[i] = j;
             ++count;
           }
         });
@@ -107,29 +110,32 @@ Eigen::SparseMatrix<double> normal_matrix_from_rows(const Eigen::SparseMatrix<do
     outer[j + 1] += outer[j];
   result.resizeNonZeros(outer[n]);
   advise_sparse_storage(result);   // fresh: not written yet
-  Index* inner = result.innerIndexPtr();
-  double* values = result.valuePtr();
+  Index* const inner = result.innerIndexPtr();
+  double* const values = result.valuePtr();
   Per_thread<Workspace> per_thread(parallel);
   for_each_block(std::size_t(n), parallel, [&](std::size_t begin, std::size_t end) {
     Workspace& w = workspace(per_thread);
+    Index* const mark = w.mark.data();
+    Index* const touched = w.touched.data();
+    double* const accumulator = w.accumulator.data();
     for(Index j = Index(begin); j < Index(end); ++j)
     {
-      w.touched.clear();
-      for_each_term(j, [&](Index i, double arj, double ari) {
-        if(w.mark[std::size_t(i)] != j)
+      Index number_touched = 0;
+      for_each_term(j, [mark, touched, accumulator, j, &number_touched](Index i, double arj, double ari) {
+        if(mark[i] != j)
         {
-          w.mark[std::size_t(i)] = j;
-          w.accumulator[std::size_t(i)] = 0.;
-          w.touched.push_back(i);
+          mark[i] = j;
+          accumulator[i] = 0.;
+          touched[number_touched++] = i;
         }
-        w.accumulator[std::size_t(i)] += arj * ari;
+        accumulator[i] += arj * ari;
       });
-      std::sort(w.touched.begin(), w.touched.end());
+      std::sort(touched, touched + number_touched);
       Index next = outer[j];
-      for(Index i : w.touched)
+      for(Index t = 0; t < number_touched; ++t)
       {
-        inner[next] = i;
-        values[next++] = w.accumulator[std::size_t(i)];
+        inner[next] = touched[t];
+        values[next++] = accumulator[touched[t]];
       }
     }
   }, 512);
@@ -152,7 +158,7 @@ inline Eigen::SparseMatrix<double> normal_matrix(const Eigen::SparseMatrix<doubl
   const Index* t_outer = at.outerIndexPtr();
   const Index* t_inner = at.innerIndexPtr();
   const double* t_value = at.valuePtr();
-  auto rows = [&](Index r, Index j, auto&& f) {
+  auto rows = [t_outer, t_inner, t_value](Index r, Index j, auto&& f) {
     const Index* begin = t_inner + t_outer[r];
     const Index* end = t_inner + t_outer[r + 1];
     for(const Index* p = j > 0 ? std::lower_bound(begin, end, j) : begin; p != end; ++p)
