@@ -329,6 +329,7 @@ struct Too_many_nodes
   typedef int node_descriptor;
   typedef int vertex_descriptor;
   std::size_t number_of_nodes() const { return std::size_t(1) << 33; }
+  std::vector<int> nodes() const { return {}; }   // never walked: the size is refused first
   std::size_t index(node_descriptor a) const { return std::size_t(a); }
   std::vector<int> neighbors(node_descriptor) const { return {}; }
   template <class F> void combination(node_descriptor a, F&& f) const { f(a, 1.); }

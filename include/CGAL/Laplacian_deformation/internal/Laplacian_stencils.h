@@ -16,6 +16,7 @@
 #include <Eigen/SparseCore>
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -225,7 +226,8 @@ Laplacian_stencils laplacian_stencils(const Nodes& nodes, std::size_t number_of_
 // entry of a row is computed from the same cell in the same order: D restricted to the rows that
 // touch `region` is bitwise the whole-mesh one's. The cost is proportional to the region's
 // neighbourhood, not to the mesh (but for one byte per node of the mesh, zeroed, to meet each
-// node once, and a table of the local indices when the neighbourhood is a large part of the mesh).
+// node once; when the region is a large part of the mesh, a walk over all nodes, a descriptor per
+// node and a table of the local indices, on TBB's threads with `parallel`).
 template <class Nodes, class VertexIndexMap, class VertexRange>
 Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t number_of_vertices,
                                            const VertexIndexMap& vertex_index, const VertexRange& region,
@@ -236,43 +238,92 @@ Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t numbe
   if(nodes.number_of_nodes() > std::size_t((std::numeric_limits<Stencil_index>::max)()))
     throw std::length_error("Laplacian_deformation: the mesh is too large for the stencils' 32-bit indices "
                             "(more than 2^32 - 1 nodes)");
-  // each node once (a byte per node of the mesh marks the nodes met): 1 for the rows (the
-  // region's nodes and their neighbours), 2 for the rows' other neighbours
-  std::vector<unsigned char> mark(nodes.number_of_nodes(), 0);
-  std::vector<Entry> all;
-  auto meet = [&](const node_descriptor& a, unsigned char level) {
-    const std::size_t g = nodes.index(a);
-    if(!mark[g])
-    {
-      mark[g] = level;
-      all.emplace_back(g, a);
-    }
-  };
-  all.reserve((std::min)(nodes.number_of_nodes(), 8 * std::size_t(std::distance(region.begin(), region.end())) + 64));
-  for(const auto& v : region)
-    nodes.incident_nodes(v, [&](const node_descriptor& a) { meet(a, 1); });
-  const std::size_t number_of_seeds = all.size();
-  for(std::size_t i = 0; i < number_of_seeds; ++i)
-    for(node_descriptor b : nodes.neighbors(all[i].second))
-      meet(b, 1);
-  const std::size_t number_of_rows = all.size();
-  for(std::size_t i = number_of_seeds; i < number_of_rows; ++i)
-    for(node_descriptor b : nodes.neighbors(all[i].second))
-      meet(b, 2);
-  std::sort(all.begin(), all.end(), [](const Entry& x, const Entry& y) { return x.first < y.first; });
-  std::vector<char> is_row(all.size(), 0);
+  std::vector<char> is_row;
   std::vector<node_descriptor> sequence;
-  sequence.reserve(all.size());
   std::vector<Stencil_index> global_node;
-  global_node.reserve(all.size());
-  for(std::size_t i = 0; i < all.size(); ++i)
+  const std::size_t region_size = std::size_t(std::distance(region.begin(), region.end()));
+  typedef typename std::iterator_traits<decltype(region.begin())>::iterator_category Region_category;
+  if(16 * region_size > number_of_vertices &&
+     std::is_base_of<std::random_access_iterator_tag, Region_category>::value)
   {
-    is_row[i] = mark[all[i].first] == 1;
-    sequence.push_back(all[i].second);
-    global_node.push_back(static_cast<Stencil_index>(all[i].first));
+    // a region that is a large part of the mesh: every node's mark in a dense array, set in three
+    // phases over all nodes (on TBB's threads with `parallel`; the marks are atomic bytes, and a
+    // phase only turns unmarked nodes into its own mark): 1 for the region's nodes, 3 for their
+    // other neighbours (both rows), 2 for the rows' other neighbours. The same sets as the
+    // walk below, then listed in node order without a sort.
+    const std::size_t n = nodes.number_of_nodes();
+    std::vector<node_descriptor> by_index(n);
+    for(node_descriptor a : nodes.nodes())
+      by_index[nodes.index(a)] = a;
+    std::vector<std::atomic<unsigned char>> mark(n);   // value-initialised: 0
+    auto meet = [&](const node_descriptor& b, unsigned char level) {
+      std::atomic<unsigned char>& m = mark[nodes.index(b)];
+      if(m.load(std::memory_order_relaxed) == 0)
+        m.store(level, std::memory_order_relaxed);   // several threads may store the same level
+    };
+    for_each_block(region_size, parallel, [&](std::size_t begin, std::size_t end) {
+      auto v = region.begin();
+      std::advance(v, std::ptrdiff_t(begin));
+      for(std::size_t i = begin; i < end; ++i, ++v)
+        nodes.incident_nodes(*v, [&](const node_descriptor& a) { mark[nodes.index(a)].store(1, std::memory_order_relaxed); });
+    }, 1024);
+    for(unsigned char from : {1, 3})
+      for_each_block(n, parallel, [&](std::size_t begin, std::size_t end) {
+        for(std::size_t a = begin; a < end; ++a)
+          if(mark[a].load(std::memory_order_relaxed) == from)
+            for(node_descriptor b : nodes.neighbors(by_index[a]))
+              meet(b, from == 1 ? 3 : 2);
+      }, 1024);
+    std::size_t met = 0;
+    for(std::size_t a = 0; a < n; ++a)
+      met += mark[a].load(std::memory_order_relaxed) != 0;
+    is_row.reserve(met);
+    sequence.reserve(met);
+    global_node.reserve(met);
+    for(std::size_t a = 0; a < n; ++a)
+      if(const unsigned char m = mark[a].load(std::memory_order_relaxed))
+      {
+        is_row.push_back(m != 2);
+        sequence.push_back(by_index[a]);
+        global_node.push_back(static_cast<Stencil_index>(a));
+      }
   }
-  std::vector<Entry>().swap(all);
-  std::vector<unsigned char>().swap(mark);
+  else
+  {
+    // each node once (a byte per node of the mesh marks the nodes met): 1 for the rows (the
+    // region's nodes and their neighbours), 2 for the rows' other neighbours
+    std::vector<unsigned char> mark(nodes.number_of_nodes(), 0);
+    std::vector<Entry> all;
+    auto meet = [&](const node_descriptor& a, unsigned char level) {
+      const std::size_t g = nodes.index(a);
+      if(!mark[g])
+      {
+        mark[g] = level;
+        all.emplace_back(g, a);
+      }
+    };
+    all.reserve((std::min)(nodes.number_of_nodes(), 8 * region_size + 64));
+    for(const auto& v : region)
+      nodes.incident_nodes(v, [&](const node_descriptor& a) { meet(a, 1); });
+    const std::size_t number_of_seeds = all.size();
+    for(std::size_t i = 0; i < number_of_seeds; ++i)
+      for(node_descriptor b : nodes.neighbors(all[i].second))
+        meet(b, 1);
+    const std::size_t number_of_rows = all.size();
+    for(std::size_t i = number_of_seeds; i < number_of_rows; ++i)
+      for(node_descriptor b : nodes.neighbors(all[i].second))
+        meet(b, 2);
+    std::sort(all.begin(), all.end(), [](const Entry& x, const Entry& y) { return x.first < y.first; });
+    is_row.assign(all.size(), 0);
+    sequence.reserve(all.size());
+    global_node.reserve(all.size());
+    for(std::size_t i = 0; i < all.size(); ++i)
+    {
+      is_row[i] = mark[all[i].first] == 1;
+      sequence.push_back(all[i].second);
+      global_node.push_back(static_cast<Stencil_index>(all[i].first));
+    }
+  }
   // the local index of a node: a table by node index when the neighbourhood is a large part of
   // the mesh, a binary search otherwise (no memory proportional to the mesh)
   std::vector<unsigned int> table;
