@@ -24,6 +24,10 @@ Requirements the algorithm relies on:
   node's neighbourhood once (its area is the node's Voronoi area). On a polygon face the
   package's models use the face's edges or vertices next to the node (\ref LapDefPolygons).
 
+With a parallel concurrency tag (`Mesh_deformer`'s default when \tbb is found), `combination()`,
+`neighbors()`, `fan_triangles()`, `incident_nodes()` and `index()` are called from several threads
+at once on one model (the stencils are built in parallel): they must only read.
+
 Nothing else is used: the package constructs a model in place from `(tm, vpm)` and never copies,
 assigns or default-constructs it; it never compares, orders or hashes `node_descriptor`s (it
 only passes them back to `index()`, `combination()`, `neighbors()` and `fan_triangles(`); and the

@@ -72,7 +72,7 @@ another mesh whose index is in range is indistinguishable from the vertex of thi
 \tparam TransformPolicy a model of `DeformationTransformPolicy`; `CGAL::Default`: `Scaled_rotation_transform`; `Any_transform` to choose it at run time
 \tparam SolverTraits a model of `SparseLinearAlgebraWithFactorTraits_d` (see `Least_squares_solver`); `CGAL::Default`: `Default_solver_traits`
 \tparam VertexPointMap a model of `ReadWritePropertyMap` from vertices to points; `CGAL::Default`: the internal point map
-\tparam ConcurrencyTag `CGAL::Sequential_tag`, `CGAL::Parallel_tag` or `CGAL::Parallel_if_available_tag`: whether the local step, the right-hand sides, the rest-cell weights and `A^T A` use \tbb's threads (then the weight and transform policies are called from several threads at once; the results do not depend on it up to round-off, see \ref LapDefPerformance)
+\tparam ConcurrencyTag `CGAL::Sequential_tag`, `CGAL::Parallel_tag` or `CGAL::Parallel_if_available_tag`: whether the local step, the right-hand sides, the rest-cell weights and the assembly (stencils, operator, `A^T A`, the checks' face data) use \tbb's threads (then the weight and transform policies, the representation's nodes, the mesh and its property maps are called or read from several threads at once; the operator and the system are the same bit for bit, the results do not depend on it up to round-off, see \ref LapDefPerformance)
 */
 template <class TriangleMesh, class Representation = CGAL::Default, class WeightPolicy = CGAL::Default,
           class TransformPolicy = CGAL::Default, class SolverTraits = CGAL::Default,
