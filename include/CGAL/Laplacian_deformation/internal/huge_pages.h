@@ -53,23 +53,30 @@ inline bool huge_pages_enabled()
 #endif
 }
 
-// advises the whole huge pages inside [p, p + bytes) for regions of at least 4 MiB; returns
-// whether a request was made and accepted
-inline bool advise_huge_pages(const void* p, std::size_t bytes)
+// advises the whole huge pages inside [address, address + bytes) for regions of at least 4 MiB;
+// returns whether a request was made and accepted (an address, not a pointer: a fresh block is
+// not written yet, and some compilers warn when a pointer to it is passed as `const void*`)
+inline bool advise_huge_pages_at(std::uintptr_t address, std::size_t bytes)
 {
 #if CGAL_LAPDEF_HUGE_PAGES
-  if(p == nullptr || bytes < 2 * huge_page_bytes || !huge_pages_enabled())
+  if(address == 0 || bytes < 2 * huge_page_bytes || !huge_pages_enabled())
     return false;
-  const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(p) + huge_page_bytes - 1) & ~(huge_page_bytes - 1);
-  const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(huge_page_bytes - 1);
+  const std::uintptr_t begin = (address + huge_page_bytes - 1) & ~(huge_page_bytes - 1);
+  const std::uintptr_t end = (address + bytes) & ~(huge_page_bytes - 1);
   if(end <= begin)
     return false;
   return madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE) == 0;
 #else
-  (void)p;
+  (void)address;
   (void)bytes;
   return false;
 #endif
+}
+
+// advise_huge_pages_at() for the block at p
+inline bool advise_huge_pages(const void* p, std::size_t bytes)
+{
+  return advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(p), bytes);
 }
 
 // v.reserve(n), the fresh storage advised before it is written (v empty: nothing written yet)
@@ -79,7 +86,7 @@ void reserve_huge(std::vector<T, A>& v, std::size_t n)
   const bool fresh = v.capacity() < n;
   v.reserve(n);
   if(fresh && v.empty())
-    advise_huge_pages(v.data(), n * sizeof(T));
+    advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(v.data()), n * sizeof(T));
 }
 
 // v.assign(n, value) with the storage advised first when it is fresh
@@ -117,15 +124,17 @@ void resize_dense_huge(Dense& m, std::ptrdiff_t rows, std::ptrdiff_t cols)
   const bool fresh = m.size() != rows * cols;
   m.resize(rows, cols);
   if(fresh)
-    advise_huge_pages(m.data(), std::size_t(m.size()) * sizeof(*m.data()));
+    advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(m.data()), std::size_t(m.size()) * sizeof(*m.data()));
 }
 
 // the value and index arrays of a compressed sparse matrix just sized by resizeNonZeros()
 template <class SparseMatrix>
 void advise_sparse_storage(SparseMatrix& m)
 {
-  advise_huge_pages(m.valuePtr(), std::size_t(m.nonZeros()) * sizeof(*m.valuePtr()));
-  advise_huge_pages(m.innerIndexPtr(), std::size_t(m.nonZeros()) * sizeof(*m.innerIndexPtr()));
+  advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(m.valuePtr()),
+                       std::size_t(m.nonZeros()) * sizeof(*m.valuePtr()));
+  advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(m.innerIndexPtr()),
+                       std::size_t(m.nonZeros()) * sizeof(*m.innerIndexPtr()));
 }
 
 // a^T (compressed, sorted), its fresh storage advised before it is written: what Eigen's
@@ -171,7 +180,7 @@ struct Huge_allocator
     void* p = std::malloc(n * sizeof(T) + (n == 0));
     if(p == nullptr)
       throw std::bad_alloc();
-    advise_huge_pages(p, n * sizeof(T));
+    advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(p), n * sizeof(T));
     return static_cast<T*>(p);
   }
   void deallocate(T* p, std::size_t) { std::free(p); }
@@ -188,20 +197,20 @@ using Huge_vector = std::vector<T, Huge_allocator<T>>;
 inline void* huge_malloc(std::size_t size)
 {
   void* p = std::malloc(size);
-  advise_huge_pages(p, size);
+  advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(p), size);
   return p;
 }
 inline void* huge_calloc(std::size_t n, std::size_t size)
 {
   void* p = std::calloc(n, size);   // large blocks are fresh mappings, not written by calloc
   if(p != nullptr && size != 0 && n <= std::size_t(-1) / size)
-    advise_huge_pages(p, n * size);
+    advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(p), n * size);
   return p;
 }
 inline void* huge_realloc(void* q, std::size_t size)
 {
   void* p = std::realloc(q, size);
-  advise_huge_pages(p, size);
+  advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(p), size);
   return p;
 }
 
