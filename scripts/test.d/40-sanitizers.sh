@@ -5,9 +5,10 @@
 # to keep CI short (the tool's 100-odd policy instantiations would double the build), so are the
 # tests of the generic models and of the metrics (LAPLACIAN_DEFORMATION_BUILD_MODEL_TESTS=OFF: a
 # third of this build; the same engine under other mesh types, checked by the main build's tests),
-# and the engine's typed tests run on 13 of their 28 policy combinations
-# (LAPLACIAN_DEFORMATION_TEST_FEWER_COMBINATIONS: every transform edge-based with cotangent weights,
-# Fixed and S*R1 with the other pairs). Any sanitizer finding aborts its test, so ctest fails.
+# and the engine's typed tests run on 8 of their 28 policy combinations
+# (LAPLACIAN_DEFORMATION_TEST_FEWER_COMBINATIONS: the five rotation-fitting transforms edge-based
+# with cotangent weights, one more pair each for the vertex-based representation and the uniform
+# weights; every policy is tested by test_policies_and_solver here). Any sanitizer finding aborts its test, so ctest fails.
 #   usage: scripts/test.d/40-sanitizers.sh <main build folder>
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)

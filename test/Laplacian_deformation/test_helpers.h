@@ -9,7 +9,7 @@
 // converted to any FaceGraph), the real meshes unpacked by scripts/setup.sh, and
 // `points_near()` for comparing point sets with a message naming the first offending index.
 
-#include <CGAL/boost/graph/IO/polygon_mesh_io.h>
+#include <CGAL/boost/graph/IO/OFF.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polyhedron_3.h>
 #include <CGAL/Polyhedron_items_with_id_3.h>
@@ -278,12 +278,13 @@ inline std::string data_path(const std::string& file_name)
   return std::string(LAPLACIAN_DEFORMATION_DATA_DIR) + "/" + file_name;
 }
 
-/// Reads a mesh of the data folder; returns `false` if it is missing or unreadable.
+/// Reads an OFF mesh of the data folder; returns `false` if it is missing or unreadable. (OFF
+/// only: the generic reader would compile every format's reader into every test.)
 template <class Mesh>
 bool read_data_mesh(const std::string& file_name, Mesh& m)
 {
   clear(m);
-  if(!CGAL::IO::read_polygon_mesh(data_path(file_name), m) || is_empty(m))
+  if(!CGAL::IO::read_OFF(data_path(file_name), m) || is_empty(m))
     return false;
   internal::set_ids(m);
   return true;

@@ -347,14 +347,13 @@ public:
     }
 
     // per-row data for the local step: delta; the cells (rest and current edges, fit weights)
-    // are gathered per row in the local step, from m_rest_nodes and the stencils
+    // are gathered per row in the local step, from m_nodes (rest and current positions) and the stencils
     resize_dense_huge(m_delta, nr, 3);
     for(std::size_t r = 0; r < m_rows.size(); ++r)
       m_delta.row(Eigen::Index(r)) = delta.row(Eigen::Index(m_rows[r]));
     m_max_degree = 0;
     for(std::size_t a : m_fit_nodes)
       m_max_degree = (std::max)(m_max_degree, s.degree(a));
-    m_rest_nodes = &rest_nodes;
     // the nodes the local step evaluates: the fitted nodes and their neighbours, each once
     std::vector<char> needed(s.number_of_nodes, 0);
     for(std::size_t a : m_fit_nodes)
@@ -368,7 +367,10 @@ public:
     for(std::size_t a = 0; a < s.number_of_nodes; ++a)
       if(needed[a])
         m_needed_nodes.push_back(a);
-    assign_huge(m_node_positions, s.number_of_nodes, Eigen::Vector3d(Eigen::Vector3d::Zero()));
+    // each needed node's rest position next to its current one (filled by the local step)
+    assign_huge(m_nodes, s.number_of_nodes, Node_positions());
+    for(std::size_t a : m_needed_nodes)
+      m_nodes[a].rest = rest_nodes[a];
     assign_huge(m_transforms, m_fit_nodes.size(), Eigen::Matrix3d(Eigen::Matrix3d::Identity()));
     m_known_vertices.assign(m_known.innerIndexPtr(), m_known.innerIndexPtr() + m_known.nonZeros());
     std::sort(m_known_vertices.begin(), m_known_vertices.end());
@@ -615,10 +617,13 @@ private:
         Eigen::Vector3d x = Eigen::Vector3d::Zero();
         for(std::size_t k = s.combination_start[a]; k < s.combination_start[a + 1]; ++k)
           x += s.combination_coefficient[k] * p[s.combination_vertex[k]];
-        m_node_positions[a] = x;
+        m_nodes[a].current = x;
       }
     });
-    const std::vector<Eigen::Vector3d>& rest = *m_rest_nodes;
+    // the spokes reach scattered nodes: the nodes of the cell `lookahead` rows ahead are
+    // prefetched while a cell is gathered (one cache line per node: its current and rest positions)
+    constexpr std::size_t lookahead = 6;
+    const Node_positions* nodes = m_nodes.data();
     for_each_block(m_fit_nodes.size(), [&](std::size_t begin, std::size_t end) {
       // the cells are fitted `group` at a time: by the policy's transform_block() (vectorised)
       // where it has one, by transform(cell) otherwise (group 1)
@@ -630,24 +635,36 @@ private:
       std::vector<Eigen::Matrix3d> fitted(group);
       for(std::size_t r = begin; r < end; ++r)
       {
+        if(r + lookahead < end)
+        {
+          const std::size_t ahead = m_fit_nodes[r + lookahead];
+          for(std::size_t k = s.neighbor_start[ahead]; k < s.neighbor_start[ahead + 1]; ++k)
+            prefetch(nodes + s.neighbor[k]);
+        }
         const std::size_t a = m_fit_nodes[r], first = s.neighbor_start[a], degree = s.neighbor_start[a + 1] - first;
-        const Eigen::Vector3d &xa = m_node_positions[a], &ra = rest[a];
+        const Eigen::Vector3d &xa = nodes[a].current, &ra = nodes[a].rest;
         Eigen::Vector3d *re = rest_edges.data() + cells.size() * m_max_degree,
                         *ce = current_edges.data() + cells.size() * m_max_degree;
         double* fw = fit_weights.data() + cells.size() * m_max_degree;
         // the fits are homogeneous in the edges: the cell is scaled by a power of two (exact) that
         // brings its largest coordinate near 1, away from overflow and underflow at any model size
         // (its largest coordinate is found while the spokes are gathered)
-        double largest = 0;
+        // (a running maximum per coordinate: six independent chains; a NaN is skipped as before)
+        double largest[6] = {0, 0, 0, 0, 0, 0};
         for(std::size_t i = 0; i < degree; ++i)
         {
           const std::size_t b = s.neighbor[first + i];
-          re[i] = ra - rest[b];
-          ce[i] = xa - m_node_positions[b];
+          re[i] = ra - nodes[b].rest;
+          ce[i] = xa - nodes[b].current;
           fw[i] = (std::max)(s.weight[first + i], 0.);
-          largest = (std::max)({largest, re[i].cwiseAbs().maxCoeff(), ce[i].cwiseAbs().maxCoeff()});
+          for(int c = 0; c < 3; ++c)
+          {
+            largest[c] = (std::max)(largest[c], std::abs(re[i][c]));
+            largest[3 + c] = (std::max)(largest[3 + c], std::abs(ce[i][c]));
+          }
         }
-        const double unit = normalizing_power_of_two(largest);
+        const double unit = normalizing_power_of_two((std::max)({largest[0], largest[1], largest[2], largest[3],
+                                                                 largest[4], largest[5]}));
         for(std::size_t i = 0; i < degree; ++i)
         {
           re[i] *= unit;
@@ -677,13 +694,25 @@ private:
   std::vector<std::size_t> m_unknowns, m_rows, m_needed_nodes, m_soft;
   std::vector<std::size_t> m_fit_nodes, m_row_fit;   // the fitted nodes; per row, its fitted node
   std::size_t m_max_degree = 0;
-  const std::vector<Eigen::Vector3d>* m_rest_nodes = nullptr;   // P p_rest, owned by the caller
+  // a node's current position (computed by the local step) and rest position, in one cache line
+  struct alignas(64) Node_positions
+  {
+    Eigen::Vector3d current = Eigen::Vector3d::Zero(), rest = Eigen::Vector3d::Zero();
+  };
+  static void prefetch(const void* p)
+  {
+#if defined(__GNUC__)
+    __builtin_prefetch(p);
+#else
+    (void)p;
+#endif
+  }
   typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Known;
   Eigen::SparseMatrix<double> m_a;   // A (handed to m_solver by preprocess())
   Known m_known;                     // K (by rows)
   double m_lambda = 0;
   Eigen::MatrixX3d m_delta, m_solution;
-  std::vector<Eigen::Vector3d> m_node_positions;
+  std::vector<Node_positions> m_nodes;   // per node of the mesh (only the needed ones are used)
   std::vector<Eigen::Matrix3d> m_transforms;
   std::vector<std::size_t> m_known_vertices;        // the vertices with a column in K
   std::vector<Eigen::Vector3d> m_known_positions;   // their positions when m_known_part was computed
