@@ -635,8 +635,8 @@ for level in lv:
                 row('%s solve / (2 x factor bytes / bandwidth)' % name, '%.1f ms / (2 x %.0f MB / %.1f GB/s = %.1f ms)' % (
                     b['solve_ms'], b['factor_mb'], bandwidth / 1e9, bound), b['solve_ms'] / bound, '<= 2',
                     'own substitutions on CHOLMOD\'s supernodal factor (Cholmod_supernodal_llt::solve_columns): three '
-                    'columns interleaved, each supernode swept column by column (AVX2+FMA kernels where the processor '
-                    'has them), subtrees of the elimination tree on TBB\'s threads, level after level (%d levels of up to '
+                    'columns interleaved, each supernode swept two columns at a time with the next pair prefetched (AVX2+FMA '
+                    'kernels where the processor has them), subtrees of the elimination tree on TBB\'s threads, level after level (%d levels of up to '
                     '%d groups); %.0f%% of the factor\'s values are left to one thread (the top)' % (
                         int(b.get('solve_levels', 0)), int(b.get('solve_groups', 1)),
                         100 * b.get('solve_sequential_share', 1)))

@@ -51,14 +51,18 @@ struct Supernodal_factor_view
   const double* values = nullptr;
 };
 
-// The two column kernels of the substitutions: z_k[i] -= c[i] a_k (the forward substitution's
-// update by one column of L) and s_k = sum_i c[i] z_k[i] (the backward substitution's dot product
-// with one column), for the three right-hand sides k = 0, 1, 2 kept as three arrays. A supernode
-// is swept one column after the other, so its block is read as one ascending stream: measured on
-// the machines here, one stream is read about twice as fast as two or four interleaved ones.
-// `portable` is compiled for the build's instruction set; `avx2` (AVX2 and FMA, chosen at run time
-// on x86 with GCC or Clang) does four rows per instruction. Each fixes its order of summation, so
-// a solve is reproducible for a given kernel; the two differ by round-off.
+// The column kernels of the substitutions: z_k[i] -= c[i] a_k (the forward substitution's update
+// by one column of L) and s_k = sum_i c[i] z_k[i] (the backward substitution's dot product with one
+// column), for the three right-hand sides k = 0, 1, 2 kept as three arrays; and the same for two
+// adjacent columns c, d of a supernode at once (update2: z_k[i] -= c[i] a_k, then -= d[i] a_{3+k};
+// dot2: the six dot products), which a supernode's sweep uses for its pairs of columns: every z_k[i]
+// is then loaded and stored once per pair instead of once per column (the one-column update is
+// bound by its three stores per row), and the six sums of dot2 are twelve independent chains (the
+// one-column dot product's six chains wait on the FMA's latency). `portable` is compiled for the
+// build's instruction set (its update2 subtracts in the order of two update() calls, its dot2 is two
+// dot() calls); `avx2` (AVX2 and FMA, chosen at run time on x86 with GCC or Clang) does four rows per
+// instruction. Each fixes its order of summation, so a solve is reproducible for a given kernel; the
+// two differ by round-off.
 namespace supernodal_kernels {
 
 inline void update_portable(const double* c, int len, const double* a, double* z0, double* z1, double* z2)
@@ -93,6 +97,24 @@ inline void dot_portable(const double* c, int len, const double* z0, const doubl
   s[0] = (p0[0] + p0[1]) + (p0[2] + p0[3]);
   s[1] = (p1[0] + p1[1]) + (p1[2] + p1[3]);
   s[2] = (p2[0] + p2[1]) + (p2[2] + p2[3]);
+}
+
+inline void update2_portable(const double* c, const double* d, int len, const double*, const double*, const double* a,
+                             double* z0, double* z1, double* z2)
+{
+  for(int i = 0; i < len; ++i)
+  {
+    z0[i] = (z0[i] - c[i] * a[0]) - d[i] * a[3];
+    z1[i] = (z1[i] - c[i] * a[1]) - d[i] * a[4];
+    z2[i] = (z2[i] - c[i] * a[2]) - d[i] * a[5];
+  }
+}
+
+inline void dot2_portable(const double* c, const double* d, int len, const double*, const double*, const double* z0,
+                          const double* z1, const double* z2, double* s)
+{
+  dot_portable(c, len, z0, z1, z2, s);
+  dot_portable(d, len, z0, z1, z2, s + 3);
 }
 
 #if CGAL_LAPDEF_MULTIVERSIONING
@@ -158,12 +180,105 @@ __attribute__((target("avx2,fma"))) inline void dot_avx2(const double* c, int le
   s[1] = r1;
   s[2] = r2;
 }
+__attribute__((target("avx2,fma"))) inline void update2_avx2(const double* c, const double* d, int len,
+                                                             const double* ahead0, const double* ahead1,
+                                                             const double* a, double* z0, double* z1, double* z2)
+{
+  const __m256d a0 = _mm256_set1_pd(a[0]), a1 = _mm256_set1_pd(a[1]), a2 = _mm256_set1_pd(a[2]),
+                b0 = _mm256_set1_pd(a[3]), b1 = _mm256_set1_pd(a[4]), b2 = _mm256_set1_pd(a[5]);
+  int i = 0;
+  for(; i + 3 < len; i += 4)
+  {
+    if((i & 7) == 0)
+    {
+      _mm_prefetch(reinterpret_cast<const char*>(ahead0 + i), _MM_HINT_T0);
+      _mm_prefetch(reinterpret_cast<const char*>(ahead1 + i), _MM_HINT_T0);
+    }
+    const __m256d u = _mm256_loadu_pd(c + i), v = _mm256_loadu_pd(d + i);
+    _mm256_storeu_pd(z0 + i, _mm256_fnmadd_pd(v, b0, _mm256_fnmadd_pd(u, a0, _mm256_loadu_pd(z0 + i))));
+    _mm256_storeu_pd(z1 + i, _mm256_fnmadd_pd(v, b1, _mm256_fnmadd_pd(u, a1, _mm256_loadu_pd(z1 + i))));
+    _mm256_storeu_pd(z2 + i, _mm256_fnmadd_pd(v, b2, _mm256_fnmadd_pd(u, a2, _mm256_loadu_pd(z2 + i))));
+  }
+  for(; i < len; ++i)
+  {
+    z0[i] = (z0[i] - c[i] * a[0]) - d[i] * a[3];
+    z1[i] = (z1[i] - c[i] * a[1]) - d[i] * a[4];
+    z2[i] = (z2[i] - c[i] * a[2]) - d[i] * a[5];
+  }
+}
+
+// eight rows per step: two sets of six accumulators (twelve independent chains)
+__attribute__((target("avx2,fma"))) inline void dot2_avx2(const double* c, const double* d, int len,
+                                                          const double* ahead0, const double* ahead1,
+                                                          const double* z0, const double* z1, const double* z2,
+                                                          double* s)
+{
+  __m256d p0 = _mm256_setzero_pd(), p1 = p0, p2 = p0, q0 = p0, q1 = p0, q2 = p0;   // c, d: rows i..i+3
+  __m256d r0 = p0, r1 = p0, r2 = p0, t0 = p0, t1 = p0, t2 = p0;                    // c, d: rows i+4..i+7
+  int i = 0;
+  for(; i + 7 < len; i += 8)
+  {
+    _mm_prefetch(reinterpret_cast<const char*>(ahead0 + i), _MM_HINT_T0);
+    _mm_prefetch(reinterpret_cast<const char*>(ahead1 + i), _MM_HINT_T0);
+    __m256d u = _mm256_loadu_pd(c + i), v = _mm256_loadu_pd(d + i), w = _mm256_loadu_pd(z0 + i);
+    p0 = _mm256_fmadd_pd(u, w, p0);
+    q0 = _mm256_fmadd_pd(v, w, q0);
+    w = _mm256_loadu_pd(z1 + i);
+    p1 = _mm256_fmadd_pd(u, w, p1);
+    q1 = _mm256_fmadd_pd(v, w, q1);
+    w = _mm256_loadu_pd(z2 + i);
+    p2 = _mm256_fmadd_pd(u, w, p2);
+    q2 = _mm256_fmadd_pd(v, w, q2);
+    u = _mm256_loadu_pd(c + i + 4);
+    v = _mm256_loadu_pd(d + i + 4);
+    w = _mm256_loadu_pd(z0 + i + 4);
+    r0 = _mm256_fmadd_pd(u, w, r0);
+    t0 = _mm256_fmadd_pd(v, w, t0);
+    w = _mm256_loadu_pd(z1 + i + 4);
+    r1 = _mm256_fmadd_pd(u, w, r1);
+    t1 = _mm256_fmadd_pd(v, w, t1);
+    w = _mm256_loadu_pd(z2 + i + 4);
+    r2 = _mm256_fmadd_pd(u, w, r2);
+    t2 = _mm256_fmadd_pd(v, w, t2);
+  }
+  if(i + 3 < len)
+  {
+    const __m256d u = _mm256_loadu_pd(c + i), v = _mm256_loadu_pd(d + i);
+    __m256d w = _mm256_loadu_pd(z0 + i);
+    p0 = _mm256_fmadd_pd(u, w, p0);
+    q0 = _mm256_fmadd_pd(v, w, q0);
+    w = _mm256_loadu_pd(z1 + i);
+    p1 = _mm256_fmadd_pd(u, w, p1);
+    q1 = _mm256_fmadd_pd(v, w, q1);
+    w = _mm256_loadu_pd(z2 + i);
+    p2 = _mm256_fmadd_pd(u, w, p2);
+    q2 = _mm256_fmadd_pd(v, w, q2);
+    i += 4;
+  }
+  double e[6] = {sum_avx2(_mm256_add_pd(p0, r0)), sum_avx2(_mm256_add_pd(p1, r1)), sum_avx2(_mm256_add_pd(p2, r2)),
+                 sum_avx2(_mm256_add_pd(q0, t0)), sum_avx2(_mm256_add_pd(q1, t1)), sum_avx2(_mm256_add_pd(q2, t2))};
+  for(; i < len; ++i)
+  {
+    e[0] += c[i] * z0[i];
+    e[1] += c[i] * z1[i];
+    e[2] += c[i] * z2[i];
+    e[3] += d[i] * z0[i];
+    e[4] += d[i] * z1[i];
+    e[5] += d[i] * z2[i];
+  }
+  for(int k = 0; k < 6; ++k)
+    s[k] = e[k];
+}
 #endif
 
 struct Kernels
 {
   void (*update)(const double*, int, const double*, double*, double*, double*) = &update_portable;
   void (*dot)(const double*, int, const double*, const double*, const double*, double*) = &dot_portable;
+  void (*update2)(const double*, const double*, int, const double*, const double*, const double*, double*, double*,
+                  double*) = &update2_portable;
+  void (*dot2)(const double*, const double*, int, const double*, const double*, const double*, const double*,
+               const double*, double*) = &dot2_portable;
   const char* name = "portable";
 };
 
@@ -178,6 +293,8 @@ inline Kernels kernels()
   {
     k.update = &update_avx2;
     k.dot = &dot_avx2;
+    k.update2 = &update2_avx2;
+    k.dot2 = &dot2_avx2;
     k.name = "avx2";
   }
 #endif
@@ -419,8 +536,9 @@ private:
         ws.w.resize(3 * bin.max_rows);
         for(std::size_t t = 0; t + 1 < bin.start.size(); ++t)
           for(int k = bin.start[t]; k < bin.start[t + 1]; ++k)
-            forward_supernode(l, bin.supernodes[std::size_t(k)], y, ws.w.data(), bin.column_end[t],
-                              lv.later_index.data(), ws.later.data());
+            forward_supernode(l, bin.supernodes[std::size_t(k)],
+                              std::size_t(k) + 1 < bin.supernodes.size() ? bin.supernodes[std::size_t(k) + 1] : -1,
+                              y, ws.w.data(), bin.column_end[t], lv.later_index.data(), ws.later.data());
       });
       for(std::size_t b = 0; b < lv.bins.size(); ++b)   // the updates sent to later levels, in bin order
       {
@@ -437,8 +555,8 @@ private:
     }
     Workspace& ws = m_workspaces[0];
     ws.w.resize(3 * max_rows(l, 0, l.nsuper - 1));
-    for(int s : m_top)
-      forward_supernode(l, s, y, ws.w.data(), l.n, nullptr, nullptr);
+    for(std::size_t k = 0; k < m_top.size(); ++k)
+      forward_supernode(l, m_top[k], k + 1 < m_top.size() ? m_top[k + 1] : -1, y, ws.w.data(), l.n, nullptr, nullptr);
   }
 
   void backward(const Supernodal_factor_view& l, double* y, bool parallel) const
@@ -446,8 +564,8 @@ private:
     {
       Workspace& ws = m_workspaces[0];
       ws.w.resize(3 * max_rows(l, 0, l.nsuper - 1));
-      for(auto s = m_top.rbegin(); s != m_top.rend(); ++s)
-        backward_supernode(l, *s, y, ws.w.data());
+      for(std::size_t k = m_top.size(); k-- > 0;)
+        backward_supernode(l, m_top[k], k > 0 ? m_top[k - 1] : -1, y, ws.w.data());
     }
     for(auto lv = m_levels.rbegin(); lv != m_levels.rend(); ++lv)
       for_each_bin(*lv, parallel, [&](std::size_t b) {
@@ -455,7 +573,7 @@ private:
         Workspace& ws = m_workspaces[b];
         ws.w.resize(3 * bin.max_rows);
         for(std::size_t k = bin.supernodes.size(); k-- > 0;)   // parents before children
-          backward_supernode(l, bin.supernodes[k], y, ws.w.data());
+          backward_supernode(l, bin.supernodes[k], k > 0 ? bin.supernodes[k - 1] : -1, y, ws.w.data());
       });
   }
 
@@ -464,7 +582,9 @@ private:
   // (added to y for the rows < `column_end`, the running subtree; subtracted from `later`, the bin's
   // buffer of the later levels' columns (index `later_index`), for the others; `later` null:
   // everything to y)
-  void forward_supernode(const Supernodal_factor_view& l, int s, double* y, double* w, int column_end,
+  // (`next`: the supernode substituted after this one by the same thread, or -1: the pairs of
+  // columns prefetch the next pair's columns, the last pair the next supernode's first two)
+  void forward_supernode(const Supernodal_factor_view& l, int s, int next, double* y, double* w, int column_end,
                          const int* later_index, double* later) const
   {
     const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s];
@@ -482,7 +602,32 @@ private:
     std::fill(z0 + nc, z0 + nr, 0.);
     std::fill(z1 + nc, z1 + nr, 0.);
     std::fill(z2 + nc, z2 + nr, 0.);
-    for(int j = 0; j < nc; ++j)
+    int j = 0;
+    for(; j + 1 < nc; j += 2)   // two columns c, d at a time: solve rows j, j + 1, then update the rows below
+    {
+      const double* c = block + std::size_t(j) * std::size_t(nr);
+      const double* d = c + nr;
+      const double ic = 1. / c[j];
+      double a[6];
+      a[0] = z0[j] * ic;
+      a[1] = z1[j] * ic;
+      a[2] = z2[j] * ic;
+      const double id = 1. / d[j + 1];
+      a[3] = (z0[j + 1] - c[j + 1] * a[0]) * id;
+      a[4] = (z1[j + 1] - c[j + 1] * a[1]) * id;
+      a[5] = (z2[j + 1] - c[j + 1] * a[2]) * id;
+      z0[j] = a[0];
+      z1[j] = a[1];
+      z2[j] = a[2];
+      z0[j + 1] = a[3];
+      z1[j + 1] = a[4];
+      z2[j + 1] = a[5];
+      const double* ahead = j + 3 < nc ? d + nr + j + 2 : next >= 0 ? l.values + l.px[next] : c;
+      const int ahead_stride = j + 3 < nc ? nr : next >= 0 ? l.pi[next + 1] - l.pi[next] : 0;
+      m_kernels.update2(c + j + 2, d + j + 2, nr - j - 2, ahead, ahead + ahead_stride, a, z0 + j + 2, z1 + j + 2,
+                        z2 + j + 2);
+    }
+    if(j < nc)   // the last column of an odd count
     {
       const double* c = block + std::size_t(j) * std::size_t(nr);
       const double inverse = 1. / c[j];
@@ -518,7 +663,7 @@ private:
 
   // z[nc..nr) = the solved rows below the block; first every column's dot product with them (the
   // columns in ascending order: one stream), then the diagonal block, transposed, from its last column
-  void backward_supernode(const Supernodal_factor_view& l, int s, double* y, double* w) const
+  void backward_supernode(const Supernodal_factor_view& l, int s, int next, double* y, double* w) const
   {
     const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s], m = nr - nc;
     const double* block = l.values + l.px[s];
@@ -534,7 +679,24 @@ private:
       z1[i] = yr[1];
       z2[i] = yr[2];
     }
-    for(int j = 0; j < nc; ++j)
+    int j = 0;
+    for(; m > 0 && j + 1 < nc; j += 2)   // two columns at a time
+    {
+      double t[6];
+      const double* c = block + std::size_t(j) * std::size_t(nr) + nc;
+      const int next_nr = next >= 0 ? l.pi[next + 1] - l.pi[next] : 0,
+                next_nc = next >= 0 ? l.super[next + 1] - l.super[next] : 0;
+      const double* ahead = j + 3 < nc ? c + 2 * nr : next >= 0 ? l.values + l.px[next] + next_nc : c;
+      const int ahead_stride = j + 3 < nc ? nr : next_nr;
+      m_kernels.dot2(c, c + nr, m, ahead, ahead + ahead_stride, z0 + nc, z1 + nc, z2 + nc, t);
+      z0[j] = ys[3 * j] - t[0];
+      z1[j] = ys[3 * j + 1] - t[1];
+      z2[j] = ys[3 * j + 2] - t[2];
+      z0[j + 1] = ys[3 * j + 3] - t[3];
+      z1[j + 1] = ys[3 * j + 4] - t[4];
+      z2[j + 1] = ys[3 * j + 5] - t[5];
+    }
+    for(; j < nc; ++j)
     {
       double t[3] = {0, 0, 0};
       if(m > 0)
