@@ -559,9 +559,15 @@ private:
                                  m_known_part.row(Eigen::Index(r));
     });
     const Eigen::SparseMatrix<double>& a = m_solver.matrix();
+    // a column's rows of b are scattered: those of the column `lookahead` columns ahead are
+    // prefetched while a column is summed
+    constexpr std::size_t lookahead = 8;
     for_each_block(std::size_t(a.cols()), [&](std::size_t begin, std::size_t end) {
       for(std::size_t j = begin; j < end; ++j)
       {
+        if(j + lookahead < end)
+          for(Eigen::SparseMatrix<double>::InnerIterator it(a, Eigen::Index(j + lookahead)); it; ++it)
+            prefetch(&b(it.row(), 0));
         Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
         for(Eigen::SparseMatrix<double>::InnerIterator it(a, Eigen::Index(j)); it; ++it)
           sum += it.value() * b.row(it.row());
@@ -578,9 +584,18 @@ private:
   {
     const Operator& d = *m_operator;
     const std::size_t nr = m_rows.size();
+    // a row's positions and unknown indices are scattered: those of the row `lookahead` rows
+    // ahead are prefetched while a row is summed
+    constexpr std::size_t lookahead = 8;
     for_each_block(nr, [&](std::size_t begin, std::size_t end) {
       for(std::size_t r = begin; r < end; ++r)
       {
+        if(r + lookahead < end)
+          for(Operator::InnerIterator it(d, Eigen::Index(m_rows[r + lookahead])); it; ++it)
+          {
+            prefetch(&p[std::size_t(it.col())]);
+            prefetch(&m_unknown_index[std::size_t(it.col())]);
+          }
         Eigen::RowVector3d residual = -b.row(Eigen::Index(r));
         for(Operator::InnerIterator it(d, Eigen::Index(m_rows[r])); it; ++it)
           if(m_unknown_index[std::size_t(it.col())] >= 0)
@@ -610,9 +625,16 @@ private:
   {
     std::atomic<std::size_t> failed(0);
     const Laplacian_stencils& s = *m_stencils;
+    constexpr std::size_t lookahead = 6;
     for_each_block(m_needed_nodes.size(), [&](std::size_t begin, std::size_t end) {
       for(std::size_t i = begin; i < end; ++i)
       {
+        if(i + lookahead < end)   // the vertices of the node `lookahead` nodes ahead
+        {
+          const std::size_t ahead = m_needed_nodes[i + lookahead];
+          for(std::size_t k = s.combination_start[ahead]; k < s.combination_start[ahead + 1]; ++k)
+            prefetch(&p[s.combination_vertex[k]]);
+        }
         const std::size_t a = m_needed_nodes[i];
         Eigen::Vector3d x = Eigen::Vector3d::Zero();
         for(std::size_t k = s.combination_start[a]; k < s.combination_start[a + 1]; ++k)
@@ -622,7 +644,6 @@ private:
     });
     // the spokes reach scattered nodes: the nodes of the cell `lookahead` rows ahead are
     // prefetched while a cell is gathered (one cache line per node: its current and rest positions)
-    constexpr std::size_t lookahead = 6;
     const Node_positions* nodes = m_nodes.data();
     for_each_block(m_fit_nodes.size(), [&](std::size_t begin, std::size_t end) {
       // the cells are fitted `group` at a time: by the policy's transform_block() (vectorised)
