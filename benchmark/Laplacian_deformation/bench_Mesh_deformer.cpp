@@ -519,6 +519,8 @@ void register_method(const std::string& name, int level)
     i->Unit(benchmark::kMillisecond);
     if(level > 0)   // one factorisation takes seconds: few repetitions
       p->Iterations(level > 1 ? 1 : 2);
+    if(level > 1)   // at least 2 s of iterations (Google Benchmark's default, 0.5 s, timed one at 416k)
+      i->MinTime(2.0);
   }
 }
 
