@@ -506,7 +506,8 @@ if os.path.exists(bench):
 
 def bench_case(prefix):
     for b in benchmarks:
-        if b['name'] == prefix or b['name'].startswith(prefix + '/iterations:'):
+        if b['name'] == prefix or b['name'].startswith(prefix + '/iterations:') or \
+           b['name'].startswith(prefix + '/min_time:'):
             return None if b.get('error_occurred') else b
     return None
 
