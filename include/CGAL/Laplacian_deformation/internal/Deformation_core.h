@@ -25,7 +25,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <numeric>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -77,12 +79,15 @@ public:
     const std::size_t n = s.number_of_vertices;
 
     // unknowns
+    if(n > std::size_t((std::numeric_limits<int>::max)()))
+      throw std::length_error("Laplacian_deformation: the mesh is too large for the system's 32-bit indices "
+                              "(more than 2^31 - 1 vertices)");
     m_unknown_index.assign(n, -1);
     m_unknowns.clear();
     for(std::size_t v = 0; v < n; ++v)
       if(is_unknown(role[v]))
       {
-        m_unknown_index[v] = static_cast<long>(m_unknowns.size());
+        m_unknown_index[v] = static_cast<int>(m_unknowns.size());
         m_unknowns.push_back(v);
       }
     const Eigen::Index nu = static_cast<Eigen::Index>(m_unknowns.size());
@@ -311,7 +316,7 @@ public:
     // A by rows for A^T A: the rows of D restricted to the unknown columns (the unknowns increase
     // with the vertex index: the entries of unknown index >= j are those of vertex >= m_unknowns[j]),
     // then the soft rows
-    const long* const unknown_index = m_unknown_index.data();
+    const int* const unknown_index = m_unknown_index.data();
     const std::size_t* const unknowns = m_unknowns.data();
     const std::size_t* const system_rows = m_rows.data();
     const std::size_t* const soft = m_soft.data();
@@ -711,7 +716,7 @@ private:
   const Operator* m_operator = nullptr;   // D (its rows m_rows are the system's), owned by the caller
   TransformPolicy m_policy;
   Least_squares_solver<SolverTraits, ConcurrencyTag> m_solver;
-  std::vector<long> m_unknown_index;
+  std::vector<int> m_unknown_index;   // per vertex of the mesh: its unknown, or -1 (32-bit: A's column indices are int)
   std::vector<std::size_t> m_unknowns, m_rows, m_needed_nodes, m_soft;
   std::vector<std::size_t> m_fit_nodes, m_row_fit;   // the fitted nodes; per row, its fitted node
   std::size_t m_max_degree = 0;
