@@ -227,8 +227,9 @@ Laplacian_stencils laplacian_stencils(const Nodes& nodes, std::size_t number_of_
 // entry of a row is computed from the same cell in the same order: D restricted to the rows that
 // touch `region` is bitwise the whole-mesh one's. The cost is proportional to the region's
 // neighbourhood, not to the mesh (but for one byte per node of the mesh, zeroed, to meet each
-// node once; when the region is a large part of the mesh, a walk over all nodes, a descriptor per
-// node and a table of the local indices, on TBB's threads with `parallel`).
+// node once, and a bit per node with a count per 64 nodes to find the local indices; when the
+// region is a large part of the mesh, a walk over all nodes, a descriptor per node and a table of
+// the local indices, on TBB's threads with `parallel`).
 template <class Nodes, class VertexIndexMap, class VertexRange>
 Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t number_of_vertices,
                                            const VertexIndexMap& vertex_index, const VertexRange& region,
