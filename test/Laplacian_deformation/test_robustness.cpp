@@ -187,6 +187,9 @@ TEST(BadInput, C02_NonManifoldVertex)
     d.set_target_position(b, Point_3(1, 1, 1));
     const Snapshot before(m);
     EXPECT_TRUE(failed_cleanly(d.deform(2, 0), LD::INVALID_MESH, "non-manifold", before, m));
+    // a failed check marks no vertex as checked: the next call refuses again
+    EXPECT_TRUE(failed_cleanly(d.deform(2, 0), LD::INVALID_MESH, "non-manifold", before, m));
+    EXPECT_FALSE(d.preprocess());
   });
 }
 

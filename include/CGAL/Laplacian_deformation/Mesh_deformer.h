@@ -697,15 +697,28 @@ private:
   // mesh, is what a check of the whole mesh spent its time on: the cost is now the region's).
   bool check_umbrellas()
   {
+    // the vertices not checked yet, each once (marked 2 while listed), then walked in blocks (on
+    // TBB's threads with Parallel_tag): 1 when manifold; on failure the listed marks are cleared
     const internal::Laplacian_stencils& st = m_stencils;
+    std::vector<std::uint32_t> unchecked;
     for(std::size_t k = 0; k < st.combination_vertex.size(); ++k)
     {
       const std::size_t i = st.combination_vertex[k];
-      if(m_umbrella_checked[i])
-        continue;
-      const vertex_descriptor v = m_vertex_at_index[i];
-      if(halfedge(v, m_tm) != boost::graph_traits<TriangleMesh>::null_halfedge())
+      if(m_umbrella_checked[i] == 0)
       {
+        m_umbrella_checked[i] = 2;
+        unchecked.push_back(static_cast<std::uint32_t>(i));
+      }
+    }
+    std::atomic<bool> manifold(true);
+    internal::for_each_block(unchecked.size(), internal::runs_in_parallel<ConcurrencyTag>(),
+                             [&](std::size_t begin, std::size_t end) {
+      for(std::size_t k = begin; k < end && manifold.load(std::memory_order_relaxed); ++k)
+      {
+        const std::size_t i = unchecked[k];
+        const vertex_descriptor v = m_vertex_at_index[i];
+        if(halfedge(v, m_tm) == boost::graph_traits<TriangleMesh>::null_halfedge())
+          continue;
         std::size_t around = 0, border = 0;
         for(auto h : halfedges_around_target(halfedge(v, m_tm), m_tm))
         {
@@ -713,10 +726,14 @@ private:
           border += is_border(h, m_tm);
         }
         if(around != m_pointing[i] || border > 1)
-          return fail(INVALID_MESH, "a vertex of the mesh is non-manifold (its faces form several fans)");
+          manifold.store(false, std::memory_order_relaxed);
       }
-      m_umbrella_checked[i] = 1;
-    }
+    }, 2048);
+    const unsigned char mark = manifold ? 1 : 0;
+    for(std::uint32_t i : unchecked)
+      m_umbrella_checked[i] = mark;
+    if(!manifold)
+      return fail(INVALID_MESH, "a vertex of the mesh is non-manifold (its faces form several fans)");
     return true;
   }
   // the rest-geometry operator: stencils, weights, D, delta = D p_rest. With representations whose
@@ -846,7 +863,8 @@ private:
     const std::size_t chunk = 4096, chunks = (m_roi.size() + chunk - 1) / chunk;
     struct Faces
     {
-      std::vector<std::size_t> start, vertex;   // start: the end of each face in `vertex`
+      std::vector<std::size_t> start;           // the end of each face in `vertex`
+      std::vector<std::uint32_t> vertex;        // vertex indices (32-bit: the system's limit is 2^31 - 1)
     };
     std::vector<Faces> found(chunks);
     internal::for_each_block(chunks, parallel, [&](std::size_t first, std::size_t last) {
@@ -869,7 +887,7 @@ private:
             for(vertex_descriptor w : vertices_around_face(h, m_tm))
             {
               const std::size_t iw = index(w);
-              f.vertex.push_back(iw);
+              f.vertex.push_back(static_cast<std::uint32_t>(iw));
               first = first && (iw >= iv || m_role[iw] == internal::FIXED_VERTEX);
             }
             if(!first)
@@ -984,7 +1002,8 @@ private:
   std::vector<vertex_descriptor> m_roi;
   std::vector<vertex_descriptor> m_vertex_at_index;   // the mesh's vertices by index, for is_vertex()
   std::vector<Deformation_warning> m_preprocess_warnings;
-  std::vector<std::size_t> m_face_start, m_face_vertex;   // the faces with a vertex in the ROI
+  std::vector<std::size_t> m_face_start;                  // the faces with a vertex in the ROI: their
+  std::vector<std::uint32_t> m_face_vertex;               // vertices (32-bit indices: see Deformation_core)
   std::vector<Eigen::Vector3d> m_rest_normals;             // and their rest normals
   std::vector<unsigned char> m_is_roi, m_is_control, m_moved, m_role;
   std::vector<Point> m_target;

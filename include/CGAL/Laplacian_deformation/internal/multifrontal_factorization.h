@@ -202,29 +202,40 @@ public:
   int factor(const Supernodal_factor_target& l, const double* values, bool parallel)
   {
     const Dense_kernels& blas = Dense_kernels::instance();
-    m_update.clear();
-    m_update.resize(std::size_t(l.nsuper));
+    release();   // also what an exception (std::bad_alloc) left
+    const std::size_t ns = std::size_t(l.nsuper);
+    m_update.assign(ns, nullptr);
+    m_on_stack.assign(ns, 0);
+    m_exported.resize(ns);
     m_failed_column = l.n;
 #ifdef CGAL_LINKED_WITH_TBB
     if(parallel && m_subtrees.size() >= 2)
     {
       std::vector<int> failed(m_subtrees.size(), l.n);
+      // every subtree's stack fits the largest subtree's peak; the top's children that are
+      // subtree roots are kept off the stack (their update matrices are moved out by the subtree)
+      std::size_t subtree_peak = 0;
+      for(int root : m_subtrees)
+        subtree_peak = (std::max)(subtree_peak, stack_peak(l, m_first[std::size_t(root)], root + 1, nullptr, root));
       {
         One_blas_thread guard(blas);   // restored on leaving, also by an exception
         Per_thread<Workspace> per_thread(true);
         tbb::parallel_for(std::size_t(0), m_subtrees.size(), [&](std::size_t t) {
           Workspace& w = per_thread.local();   // one per thread, not per subtree (first touches)
-          w.reserve(std::size_t(l.n));
+          w.reserve(std::size_t(l.n), subtree_peak);
           const int root = m_subtrees[t];
           for(int s = m_first[std::size_t(root)]; s <= root && failed[t] == l.n; ++s)
             failed[t] = front(l, values, s, w, blas);
+          if(failed[t] == l.n)
+            export_update(l, root, w);
         }, tbb::simple_partitioner());
       }
       for(int f : failed)
         m_failed_column = (std::min)(m_failed_column, f);
       if(m_failed_column != l.n)
         return release(), m_failed_column;
-      Workspace w(std::size_t(l.n));
+      Workspace w;
+      w.reserve(std::size_t(l.n), stack_peak(l, 0, 0, &m_top, -1));
       for(int s : m_top)
         if((m_failed_column = front(l, values, s, w, blas)) != l.n)
           break;
@@ -233,7 +244,8 @@ public:
 #else
     CGAL_USE(parallel);
 #endif
-    Workspace w(std::size_t(l.n));
+    Workspace w;
+    w.reserve(std::size_t(l.n), stack_peak(l, 0, l.nsuper, nullptr, -1));
     for(int s = 0; s < l.nsuper; ++s)
       if((m_failed_column = front(l, values, s, w, blas)) != l.n)
         break;
@@ -245,20 +257,95 @@ public:
   double top_share() const { return m_top_share; }
 
 private:
+  // The update matrices live on a stack: the supernodes are factored in a postorder of the
+  // elimination tree (each subtree, and the top, in increasing index), so that the update matrices
+  // of a supernode's children are the last ones left on the stack when it is factored. Its own is
+  // formed above them, then moved down over them once they are added (one copy of it). The stack
+  // is allocated once at its peak (stack_peak()), instead of a fresh block per supernode: the sum
+  // of the update matrices' sizes is several times their peak, and fresh memory costs a page
+  // fault per 4 KiB page at its first write (the largest part of a factorisation's page faults
+  // when each was a fresh calloc).
+  struct Free
+  {
+    void operator()(double* p) const { std::free(p); }
+  };
   struct Workspace
   {
-    Workspace() = default;
-    explicit Workspace(std::size_t n) : local(n, -1) {}
-    void reserve(std::size_t n)
+    void reserve(std::size_t n, std::size_t stack_size)
     {
       if(local.size() != n)
         local.assign(n, -1);
+      if(capacity < stack_size)
+      {
+        stack.reset();
+        stack.reset(static_cast<double*>(huge_malloc(stack_size * sizeof(double))));
+        if(!stack)
+          throw std::bad_alloc();
+        capacity = stack_size;
+      }
+      top = 0;
     }
     std::vector<int> local;       // row -> position in the current front (-1 between fronts)
     std::vector<int> relative;    // a child's rows -> positions in the front
+    std::unique_ptr<double, Free> stack;   // update matrices, [0, top) in use
+    std::size_t capacity = 0, top = 0;
   };
 
-  void release() { m_update.clear(); }
+  static std::size_t update_size(const Supernodal_factor_target& l, int s)
+  {
+    const std::size_t m = std::size_t(l.pi[s + 1] - l.pi[s] - (l.super[s + 1] - l.super[s]));
+    return m * m;
+  }
+  // the largest size of a stack on which the supernodes [first, last) (or those of `order`) are
+  // factored in that order, as front() and export_update() use it: a child's update matrix is on
+  // the stack when the child was factored on it and is not `exported` (a subtree root)
+  std::size_t stack_peak(const Supernodal_factor_target& l, int first, int last, const std::vector<int>* order,
+                         int exported) const
+  {
+    std::vector<std::size_t> at(std::size_t(l.nsuper), std::size_t(-1));   // stack offsets
+    std::size_t top = 0, peak = 0;
+    auto visit = [&](int s) {
+      std::size_t base = top;   // the children on this stack (factored on it, not empty, not exported)
+      for(int k = m_child_start[std::size_t(s)]; k < m_child_start[std::size_t(s) + 1]; ++k)
+        base = (std::min)(base, at[std::size_t(m_children[std::size_t(k)])]);
+      const std::size_t size = update_size(l, s);
+      peak = (std::max)(peak, top + size);
+      top = base + size;
+      if(size > 0 && s != exported)
+        at[std::size_t(s)] = base;
+      if(s == exported)
+        top = base;
+    };
+    if(order != nullptr)
+      for(int s : *order)
+        visit(s);
+    else
+      for(int s = first; s < last; ++s)
+        visit(s);
+    return peak;
+  }
+  // moves the update matrix of the subtree root `s` off the stack of `w` (the top adds it later)
+  void export_update(const Supernodal_factor_target& l, int s, Workspace& w)
+  {
+    const std::size_t size = update_size(l, s);
+    if(size == 0)
+      return;
+    double* p = static_cast<double*>(huge_malloc(size * sizeof(double)));
+    if(p == nullptr)
+      throw std::bad_alloc();
+    m_exported[std::size_t(s)].reset(p);
+    std::memcpy(p, m_update[std::size_t(s)], size * sizeof(double));
+    m_update[std::size_t(s)] = p;
+    m_on_stack[std::size_t(s)] = 0;
+    w.top -= size;
+  }
+
+  void release()
+  {
+    m_update.clear();
+    m_on_stack.clear();
+    m_exported.clear();
+  }
 
   // OpenBLAS's process-wide thread count set to 1 for a scope (nothing with another BLAS)
   struct One_blas_thread
@@ -359,17 +446,21 @@ private:
     std::fill(x, x + std::size_t(nr) * std::size_t(nc), 0.);
     for(int e = m_entry_start[std::size_t(s)]; e < m_entry_start[std::size_t(s) + 1]; ++e)
       x[m_entry_offset[std::size_t(e)]] += values[m_entry_source[std::size_t(e)]];
-    Update_matrix update;
-    if(m > 0)
-    {
-      // zeroed; a large one is a fresh mapping (calloc writes nothing), advised before it is written
-      update.reset(static_cast<double*>(huge_calloc(std::size_t(m) * std::size_t(m), sizeof(double))));
-      if(!update)
-        throw std::bad_alloc();
-    }
-    double* u = update.get();
-    // the children's update matrices, in index order
+    // the children's update matrices, in index order: those on the stack are its last ones
     const int c0 = m_child_start[std::size_t(s)], c1 = m_child_start[std::size_t(s) + 1];
+    std::size_t base = w.top;
+    for(int k = c0; k < c1; ++k)
+    {
+      const int c = m_children[std::size_t(k)];
+      if(m_on_stack[std::size_t(c)])
+        base = (std::min)(base, std::size_t(m_update[std::size_t(c)] - w.stack.get()));
+    }
+    // this one (zeroed) above them
+    const std::size_t size = std::size_t(m) * std::size_t(m);
+    CGAL_assertion(w.top + size <= w.capacity);
+    double* const u = m > 0 ? w.stack.get() + w.top : nullptr;
+    if(m > 0)
+      std::memset(u, 0, size * sizeof(double));
     if(c0 < c1)
     {
       for(int r = 0; r < nr; ++r)
@@ -379,7 +470,7 @@ private:
         const int c = m_children[std::size_t(k)];
         const int cnc = l.super[c + 1] - l.super[c], cm = l.pi[c + 1] - l.pi[c] - cnc;
         const int* crows = l.rows + l.pi[c] + cnc;
-        const double* cu = m_update[std::size_t(c)].get();
+        const double* cu = m_update[std::size_t(c)];
         w.relative.resize(std::size_t(cm));
         for(int i = 0; i < cm; ++i)
           w.relative[std::size_t(i)] = w.local[std::size_t(crows[i])];
@@ -401,7 +492,8 @@ private:
               target[rel[i] - nc] += col[i];
           }
         }
-        m_update[std::size_t(c)].reset();
+        m_update[std::size_t(c)] = nullptr;
+        m_exported[std::size_t(c)].reset();   // a subtree root's (nothing for one on the stack)
       }
       for(int r = 0; r < nr; ++r)
         w.local[std::size_t(rows[r])] = -1;
@@ -418,8 +510,14 @@ private:
       const double one = 1., minus_one = -1.;
       blas.trsm("R", "L", "T", "N", &m, &nc, &one, x, &nr, x + nc, &nr);
       blas.syrk("L", "N", &m, &nc, &minus_one, x + nc, &nr, &one, u, &m);
-      m_update[std::size_t(s)] = std::move(update);
     }
+    // the children's are added: this one takes their place on the stack
+    double* const moved = w.stack.get() + base;
+    if(m > 0 && moved != u)
+      std::memmove(moved, u, size * sizeof(double));
+    w.top = base + size;
+    m_update[std::size_t(s)] = m > 0 ? moved : nullptr;
+    m_on_stack[std::size_t(s)] = m > 0;
     return l.n;
   }
 
@@ -430,12 +528,9 @@ private:
   Huge_vector<int> m_entry_source, m_entry_offset;
   std::vector<int> m_subtrees, m_top;   // concurrent subtrees (their roots), then the top in order
   double m_top_share = 1;
-  struct Free
-  {
-    void operator()(double* p) const { std::free(p); }
-  };
-  typedef std::unique_ptr<double, Free> Update_matrix;
-  std::vector<Update_matrix> m_update;
+  std::vector<double*> m_update;   // per supernode: its update matrix until its parent has added it
+  std::vector<char> m_on_stack;    // whether it is on a stack (otherwise in m_exported, or none)
+  std::vector<std::unique_ptr<double, Free>> m_exported;   // the subtree roots' (parallel factorisation)
   int m_failed_column = 0;
 };
 

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <memory>
 #include <type_traits>
 #include <vector>
 
@@ -68,63 +69,67 @@ Eigen::SparseMatrix<double> normal_matrix_from_rows(const Eigen::SparseMatrix<do
     }
   };
   // the inner loops work on raw pointers held in locals: a write through a vector (a push_back)
-  // would make the compiler reload every captured pointer at each term
+  // would make the compiler reload every captured pointer at each term. One workspace per thread
+  // serves both passes (fresh memory is slow to touch on some machines): the symbolic pass marks
+  // with the column j, the numeric one with -(j + 2), so that no mark of the first pass is taken
+  // for one of the second (-1: never marked). Only the marks are initialised: the numeric pass
+  // writes an accumulator entry before it reads it, and the list of touched rows is a prefix.
   struct Workspace
   {
-    std::vector<Index> mark, touched;
-    std::vector<double> accumulator;
+    std::vector<Index> mark;
+    std::unique_ptr<Index[]> touched;
+    std::unique_ptr<double[]> accumulator;
   };
-  auto workspace = [n](Per_thread<Workspace>& per_thread) -> Workspace& {
+  auto workspace = [n](Per_thread<Workspace>& per_thread, bool numeric) -> Workspace& {
     Workspace& w = per_thread.local();
     if(w.mark.size() != std::size_t(n))
-    {
       w.mark.assign(std::size_t(n), -1);
-      w.touched.assign(std::size_t(n), 0);
-      w.accumulator.assign(std::size_t(n), 0.);
+    if(numeric && !w.touched)
+    {
+      w.touched.reset(new Index[std::size_t(n)]);
+      w.accumulator.reset(new double[std::size_t(n)]);
     }
     return w;
   };
 
   Eigen::SparseMatrix<double> result(n, n);
   Index* outer = result.outerIndexPtr();
-  {
-    Per_thread<Workspace> per_thread(parallel);
-    outer[0] = 0;
-    for_each_block(std::size_t(n), parallel, [&](std::size_t begin, std::size_t end) {
-      Index* const mark = workspace(per_thread).mark.data();
-      for(Index j = Index(begin); j < Index(end); ++j)
-      {
-        Index count = 0;
-        for_each_term(j, [mark, j, &count](Index i, double, double) {
-          if(mark[i] != j)
-          {
-            mark[i] = j;
-            ++count;
-          }
-        });
-        outer[j + 1] = count;
-      }
-    }, 512);
-  }
+  Per_thread<Workspace> per_thread(parallel);
+  outer[0] = 0;
+  for_each_block(std::size_t(n), parallel, [&](std::size_t begin, std::size_t end) {
+    Index* const mark = workspace(per_thread, false).mark.data();
+    for(Index j = Index(begin); j < Index(end); ++j)
+    {
+      Index count = 0;
+      for_each_term(j, [mark, j, &count](Index i, double, double) {
+        if(mark[i] != j)
+        {
+          mark[i] = j;
+          ++count;
+        }
+      });
+      outer[j + 1] = count;
+    }
+  }, 512);
   for(Eigen::Index j = 0; j < n; ++j)
     outer[j + 1] += outer[j];
   result.resizeNonZeros(outer[n]);
   advise_sparse_storage(result);   // fresh: not written yet
   Index* const inner = result.innerIndexPtr();
   double* const values = result.valuePtr();
-  Per_thread<Workspace> per_thread(parallel);
   for_each_block(std::size_t(n), parallel, [&](std::size_t begin, std::size_t end) {
-    Workspace& w = workspace(per_thread);
+    Workspace& w = workspace(per_thread, true);
     Index* const mark = w.mark.data();
-    Index* const touched = w.touched.data();
-    double* const accumulator = w.accumulator.data();
+    Index* const touched = w.touched.get();
+    double* const accumulator = w.accumulator.get();
     for(Index j = Index(begin); j < Index(end); ++j)
     {
+      const Index stamp = Index(-2) - j;
       Index number_touched = 0;
-      for_each_term(j, [mark, touched, accumulator, j, &number_touched](Index i, double arj, double ari) {
-        if(mark[i] != j)
+      for_each_term(j, [mark, touched, accumulator, stamp, &number_touched](Index i, double arj, double ari) {
+        if(mark[i] != stamp)
         {
-          mark[i] = j;
+          mark[i] = stamp;
           accumulator[i] = 0.;
           touched[number_touched++] = i;
         }
