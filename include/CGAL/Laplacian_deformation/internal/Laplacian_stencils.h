@@ -56,9 +56,11 @@ struct Laplacian_stencils
   std::vector<Stencil_index> neighbor;
   std::vector<double> weight;
   // fan triangles (x_a, x_b, x_c) as local positions of b and c in the neighbour slice of a (only
-  // compute_weights() reads them; Mesh_deformer frees them afterwards)
+  // compute_weights() reads them; Mesh_deformer frees them afterwards). 32-bit positions (a slice
+  // holds at most 2^32 - 1 neighbours): the largest array of a build, written afresh, half the
+  // memory of std::size_t pairs
   std::vector<std::size_t> fan_start;
-  std::vector<std::array<std::size_t, 2>> fan;
+  std::vector<std::array<Stencil_index, 2>> fan;
 
   // the node index of each local node (increasing) when the stencils cover part of the mesh
   // (laplacian_stencils_near()); empty when local index = node index (every node)
@@ -178,9 +180,9 @@ Laplacian_stencils build_stencils(const Nodes& nodes, std::size_t number_of_vert
       };
       std::size_t f = s.fan_start[i];
       nodes.fan_triangles(a, [&](node_descriptor b, node_descriptor c) {
-        const std::array<std::size_t, 2> t{ local(b), local(c) };
-        if(t[0] < last - first && t[1] < last - first)
-          s.fan[f++] = t;
+        const std::size_t tb = local(b), tc = local(c);
+        if(tb < last - first && tc < last - first)
+          s.fan[f++] = {static_cast<Stencil_index>(tb), static_cast<Stencil_index>(tc)};
       });
       fans_kept[i] = f - s.fan_start[i];
     }
@@ -387,6 +389,7 @@ void compute_weights_with(Laplacian_stencils& s, const std::vector<Eigen::Vector
   auto point = [](const Eigen::Vector3d& p) { return Point_3(p.x(), p.y(), p.z()); };
   for_each_block(s.number_of_nodes, parallel, [&](std::size_t begin, std::size_t end) {
     std::vector<Point_3> neighbors;
+    std::vector<std::array<std::size_t, 2>> fans;   // the cell's fan triangles as Node_cell takes them
     std::vector<double> w;
     for(std::size_t a = begin; a < end; ++a)
     {
@@ -396,9 +399,11 @@ void compute_weights_with(Laplacian_stencils& s, const std::vector<Eigen::Vector
       neighbors.clear();
       for(std::size_t k = first; k < first + n; ++k)
         neighbors.push_back(point(x[s.neighbor[k]]));
+      fans.clear();
+      for(std::size_t t = s.fan_start[a]; t < s.fan_start[a + 1]; ++t)
+        fans.push_back({std::size_t(s.fan[t][0]), std::size_t(s.fan[t][1])});
       const Point_3 center = point(x[a]);
-      const Node_cell<GeomTraits> cell(center, neighbors.data(), n, s.fan.data() + s.fan_start[a],
-                                       s.fan_start[a + 1] - s.fan_start[a], gt);
+      const Node_cell<GeomTraits> cell(center, neighbors.data(), n, fans.data(), fans.size(), gt);
       policy.weights(cell, w);
       CGAL_assertion(w.size() == n);
       std::copy(w.begin(), w.end(), s.weight.begin() + first);
@@ -606,7 +611,7 @@ void build_rest_operator(Rest_operator& r, const Nodes& nodes, const VertexIndex
 {
   build_weighted_stencils(r.stencils, r.rest_nodes, nodes, vertex_index, rest, weights, gt, parallel, scale_safe, region);
   // the fan triangles serve the weights only: free them before a factorisation (its peak)
-  std::vector<std::array<std::size_t, 2>>().swap(r.stencils.fan);
+  std::vector<std::array<Stencil_index, 2>>().swap(r.stencils.fan);
   std::vector<std::size_t>().swap(r.stencils.fan_start);
   {
     Eigen::SparseMatrix<double, Eigen::RowMajor> d = laplacian_operator(r.stencils, parallel);
