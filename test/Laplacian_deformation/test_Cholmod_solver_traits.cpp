@@ -212,6 +212,74 @@ TEST(CholmodSupernodalLlt, MultifrontalFactorMatchesCholmodFactor)
   }
 }
 
+// A factor whose supernodes are not in a postorder (CHOLMOD's postorder turned off, natural
+// ordering, two independent grids with interleaved unknowns: the two subtrees interleave): the
+// multifrontal factorisation, whose update matrices live on a stack, factors in a postorder of its
+// own and gives CHOLMOD's factor
+TEST(CholmodSupernodalLlt, MultifrontalFactorsSupernodesThatAreNotPostordered)
+{
+  const Eigen::SparseMatrix<double> grid = grid_normal_matrix(30);
+  const Eigen::Index g = grid.rows();
+  std::vector<Eigen::Triplet<double>> t;
+  for(int copy = 0; copy < 2; ++copy)
+    for(int k = 0; k < grid.outerSize(); ++k)
+      for(Eigen::SparseMatrix<double>::InnerIterator it(grid, k); it; ++it)
+        t.emplace_back(2 * int(it.row()) + copy, 2 * int(it.col()) + copy, it.value() * (copy == 0 ? 1. : 1.3));
+  Eigen::SparseMatrix<double> n(2 * g, 2 * g);
+  n.setFromTriplets(t.begin(), t.end());
+  LD::Cholmod_supernodal_llt reference, multifrontal;
+  reference.set_multifrontal(false);
+  for(LD::Cholmod_supernodal_llt* llt : {&reference, &multifrontal})
+  {
+    cholmod_common& c = llt->cholmod();
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_NATURAL;
+    c.postorder = 0;
+    llt->compute(n);
+    ASSERT_EQ(llt->info(), Eigen::Success);
+  }
+  EXPECT_TRUE(multifrontal.last_factorization_was_multifrontal());
+  const cholmod_factor& r = *reference.factor();
+  const cholmod_factor& l = *multifrontal.factor();
+  ASSERT_TRUE(l.is_super);
+  ASSERT_EQ(l.nsuper, r.nsuper);
+  ASSERT_EQ(l.xsize, r.xsize);
+  // the supernodes are not postordered: some subtree is not a contiguous range ending at its root
+  const int ns = int(l.nsuper);
+  const int* super = static_cast<const int*>(l.super);
+  const int* pi = static_cast<const int*>(l.pi);
+  const int* rows = static_cast<const int*>(l.s);
+  std::vector<int> column_super(l.n), size(std::size_t(ns), 1), first(std::size_t(ns), 0);
+  for(int s = 0; s < ns; ++s)
+  {
+    first[std::size_t(s)] = s;
+    for(int c = super[s]; c < super[s + 1]; ++c)
+      column_super[std::size_t(c)] = s;
+  }
+  bool postordered = true;
+  for(int s = 0; s < ns; ++s)
+  {
+    postordered = postordered && first[std::size_t(s)] == s + 1 - size[std::size_t(s)];
+    const int nc = super[s + 1] - super[s];
+    if(pi[s] + nc < pi[s + 1])
+    {
+      const int p = column_super[std::size_t(rows[pi[s] + nc])];
+      size[std::size_t(p)] += size[std::size_t(s)];
+      first[std::size_t(p)] = (std::min)(first[std::size_t(p)], first[std::size_t(s)]);
+    }
+  }
+  EXPECT_FALSE(postordered) << "the test needs supernodes that are not in a postorder";
+  typedef Eigen::Map<const Eigen::VectorXd> Values;
+  const Values rx(static_cast<const double*>(r.x), Eigen::Index(r.xsize));
+  const Values lx(static_cast<const double*>(l.x), Eigen::Index(l.xsize));
+  EXPECT_LE((lx - rx).norm(), 1e-13 * rx.norm());
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Random(n.rows(), 3);
+  Eigen::MatrixXd x;
+  ASSERT_TRUE(multifrontal.solve_columns(b, x));
+  const Eigen::MatrixXd y = reference.solve(b);
+  EXPECT_LE((x - y).norm(), 1e-12 * y.norm());
+}
+
 // A matrix that is not positive definite: the multifrontal factorisation reports it as CHOLMOD does
 // (NumericalIssue, minor < n), with an indefinite and with a NaN pivot (which CHOLMOD's own
 // factorisation, through OpenBLAS's dpotrf, does not report)

@@ -190,6 +190,32 @@ public:
       for(int r = 0; r < nr; ++r)
         local[std::size_t(l.rows[l.pi[s] + r])] = -1;
     }
+    // a postorder of the tree (roots and children in increasing index): the order of the sequential
+    // factorisation, in which a supernode's children's update matrices are the last ones on the
+    // stack. CHOLMOD's factors are postordered (then it is 0, 1, ...) unless its `postorder` is
+    // turned off; any order with children before parents gives the same factor
+    m_order.clear();
+    m_order.reserve(ns);
+    {
+      std::vector<int> path, next(m_child_start.begin(), m_child_start.end() - 1);
+      for(int root = 0; root < l.nsuper; ++root)
+      {
+        if(m_parent[std::size_t(root)] >= 0)
+          continue;
+        path.push_back(root);
+        while(!path.empty())
+        {
+          const int s = path.back();
+          if(next[std::size_t(s)] < m_child_start[std::size_t(s) + 1])
+            path.push_back(m_children[std::size_t(next[std::size_t(s)]++)]);
+          else
+          {
+            m_order.push_back(s);
+            path.pop_back();
+          }
+        }
+      }
+    }
     build_schedule(l, bins);
     m_valid = true;
     return true;
@@ -245,8 +271,8 @@ public:
     CGAL_USE(parallel);
 #endif
     Workspace w;
-    w.reserve(std::size_t(l.n), stack_peak(l, 0, l.nsuper, nullptr, -1));
-    for(int s = 0; s < l.nsuper; ++s)
+    w.reserve(std::size_t(l.n), stack_peak(l, 0, 0, &m_order, -1));
+    for(int s : m_order)
       if((m_failed_column = front(l, values, s, w, blas)) != l.n)
         break;
     return release(), m_failed_column;
@@ -258,7 +284,8 @@ public:
 
 private:
   // The update matrices live on a stack: the supernodes are factored in a postorder of the
-  // elimination tree (each subtree, and the top, in increasing index), so that the update matrices
+  // elimination tree (m_order; with concurrent subtrees, which exist only when the supernodes'
+  // order is a postorder, each subtree and the top in increasing index), so that the update matrices
   // of a supernode's children are the last ones left on the stack when it is factored. Its own is
   // formed above them, then moved down over them once they are added (one copy of it). The stack
   // is allocated once at its peak (stack_peak()), instead of a fresh block per supernode: the sum
@@ -512,12 +539,16 @@ private:
       blas.syrk("L", "N", &m, &nc, &minus_one, x + nc, &nr, &one, u, &m);
     }
     // the children's are added: this one takes their place on the stack
-    double* const moved = w.stack.get() + base;
-    if(m > 0 && moved != u)
-      std::memmove(moved, u, size * sizeof(double));
-    w.top = base + size;
-    m_update[std::size_t(s)] = m > 0 ? moved : nullptr;
+    m_update[std::size_t(s)] = nullptr;
+    if(m > 0)
+    {
+      double* const moved = w.stack.get() + base;
+      if(moved != u)
+        std::memmove(moved, u, size * sizeof(double));
+      m_update[std::size_t(s)] = moved;
+    }
     m_on_stack[std::size_t(s)] = m > 0;
+    w.top = base + size;
     return l.n;
   }
 
@@ -526,6 +557,7 @@ private:
   std::vector<int> m_parent, m_child_start, m_children, m_first;
   std::vector<int> m_entry_start;
   Huge_vector<int> m_entry_source, m_entry_offset;
+  std::vector<int> m_order;             // the supernodes in a postorder (the sequential factorisation's)
   std::vector<int> m_subtrees, m_top;   // concurrent subtrees (their roots), then the top in order
   double m_top_share = 1;
   std::vector<double*> m_update;   // per supernode: its update matrix until its parent has added it
