@@ -7,12 +7,15 @@
 # compiles.
 #   configure_sanitizer_build <main build folder>   (sets $asan to the folder)
 configure_sanitizer_build() {
-  local build=$1 here clang flags
+  local build here clang flags
+  build=$(cd "$1" && pwd)
   here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
   asan=$build-asan
   clang=$(command -v clang++-14 || command -v clang++) || { echo "error: clang++ not found (scripts/setup.sh installs it)" >&2; return 1; }
   flags="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all -O1 -g1 -DLAPLACIAN_DEFORMATION_TEST_FEWER_COMBINATIONS"
-  CXX=$clang cmake -S "$here" -B "$asan" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="$flags" \
+  # (the compiler is named on the command line: a folder configured before with another compiler
+  # is then reconfigured from scratch by CMake)
+  cmake -S "$here" -B "$asan" -DCMAKE_CXX_COMPILER="$clang" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="$flags" \
         -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
         -DLAPLACIAN_DEFORMATION_BUILD_FUZZERS=ON \
         -DLAPLACIAN_DEFORMATION_BUILD_EXAMPLES=OFF -DLAPLACIAN_DEFORMATION_BUILD_BENCHMARKS=OFF \
