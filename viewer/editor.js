@@ -27,6 +27,7 @@ const state = {
   seq: 0,                           // the number of the last drag sent (the server drops superseded ones)
   epoch: 0,                         // bumped by a new mesh or selection: older drag replies are ignored
   inFlight: false, pending: null, updates: 0, lastReply: null, lastRoundTrip: null, applied: [], busy: Promise.resolve(),
+  starting: Promise.resolve(),      // the start of the last drag gesture (its selection's preprocess)
 };
 
 function message(text) { $('message').textContent = text || ''; }
@@ -249,37 +250,63 @@ function rayPlane(event, point, normal) {
   return raycaster.ray.intersectPlane(new THREE.Plane().setFromNormalAndCoplanarPoint(normal, point), new THREE.Vector3());
 }
 
-canvas.addEventListener('pointerdown', async (event) => {
+/** The handle's transform for a pointer position during a translate or rotate gesture. */
+function gestureTransform(g, event) {
+  if(g.kind === 'translate') {
+    const p = rayPlane(event, g.center, g.normal);
+    if(!p) return null;
+    const d = p.sub(g.start);
+    return new THREE.Matrix4().makeTranslation(d.x, d.y, d.z).multiply(g.base);
+  }
+  const angle = (event.clientX - g.x) * 0.01;
+  const c = g.center;
+  return new THREE.Matrix4().makeTranslation(c.x, c.y, c.z)
+    .multiply(new THREE.Matrix4().makeRotationAxis(g.normal.clone().negate(), angle))
+    .multiply(new THREE.Matrix4().makeTranslation(-c.x, -c.y, -c.z)).multiply(g.base);
+}
+
+// A drag that starts on a changed selection waits for its preprocess (POST /api/select). The
+// pointer may move, and even be released, meanwhile: the waiting gesture keeps the last position
+// and the release, and once the selection is ready the handle goes to that last position (and the
+// gesture ends there if the button was already up), so no motion of the user is lost.
+canvas.addEventListener('pointerdown', (event) => {
   if(event.button !== 0 || !state.mesh) return;
   canvas.setPointerCapture(event.pointerId);
   if(state.mode !== 'drag') { gesture = { kind: 'paint' }; paint(event); return; }
-  gesture = { kind: 'wait' };
-  try { if(!(await commitSelection())) { gesture = null; return; } } catch(e) { message(e.message); gesture = null; return; }
-  const center = handleCentroid();
-  const normal = view.camera.getWorldDirection(new THREE.Vector3());
-  const start = rayPlane(event, center, normal);
-  if(!start) { gesture = null; return; }
-  gesture = { kind: event.ctrlKey || event.altKey ? 'rotate' : 'translate', center, normal, start,
-              x: event.clientX, base: state.transform.clone() };
+  const waiting = { kind: 'wait', last: null, released: false };
+  gesture = waiting;
+  state.starting = (async () => {
+    try { if(!(await commitSelection())) { if(gesture === waiting) gesture = null; return; } } catch(e) {
+      message(e.message);
+      if(gesture === waiting) gesture = null;
+      return;
+    }
+    if(gesture !== waiting) return;   // another gesture replaced this one
+    const center = handleCentroid();
+    const normal = view.camera.getWorldDirection(new THREE.Vector3());
+    const start = rayPlane(event, center, normal);
+    if(!start) { gesture = null; return; }
+    const g = { kind: event.ctrlKey || event.altKey ? 'rotate' : 'translate', center, normal, start,
+                x: event.clientX, base: state.transform.clone() };
+    gesture = waiting.released ? null : g;
+    const transform = waiting.last && gestureTransform(g, waiting.last);
+    if(transform) { state.transform = transform; requestDrag(); }
+  })();
 });
 canvas.addEventListener('pointermove', (event) => {
   if(!gesture) return;
   if(gesture.kind === 'paint') { paint(event); return; }
-  if(gesture.kind === 'translate') {
-    const p = rayPlane(event, gesture.center, gesture.normal);
-    if(!p) return;
-    const d = p.sub(gesture.start);
-    state.transform = new THREE.Matrix4().makeTranslation(d.x, d.y, d.z).multiply(gesture.base);
-  } else if(gesture.kind === 'rotate') {
-    const angle = (event.clientX - gesture.x) * 0.01;
-    const c = gesture.center;
-    state.transform = new THREE.Matrix4().makeTranslation(c.x, c.y, c.z)
-      .multiply(new THREE.Matrix4().makeRotationAxis(gesture.normal.clone().negate(), angle))
-      .multiply(new THREE.Matrix4().makeTranslation(-c.x, -c.y, -c.z)).multiply(gesture.base);
-  } else return;
+  if(gesture.kind === 'wait') { gesture.last = { clientX: event.clientX, clientY: event.clientY }; return; }
+  const transform = gestureTransform(gesture, event);
+  if(!transform) return;
+  state.transform = transform;
   requestDrag();
 });
-const endGesture = (event) => { if(gesture && canvas.hasPointerCapture(event.pointerId)) canvas.releasePointerCapture(event.pointerId); gesture = null; };
+const endGesture = (event) => {
+  if(gesture && canvas.hasPointerCapture(event.pointerId)) canvas.releasePointerCapture(event.pointerId);
+  if(gesture && gesture.kind === 'wait') { gesture.released = true; return; }   // ends once the selection is ready
+  gesture = null;
+};
 canvas.addEventListener('pointerup', endGesture);
 canvas.addEventListener('pointercancel', endGesture);
 
@@ -357,7 +384,8 @@ window.editor = {
     });
     return error;
   },
-  idle() { return state.busy; },
+  /** Resolves once the last gesture has started and no drag is in flight or pending. */
+  async idle() { await state.starting; await state.busy; },
   /** Queues a drag for `elements` (a column-major 4x4 matrix, as THREE.Matrix4.elements), as a pointer move does. */
   drag(elements) { state.transform = new THREE.Matrix4().fromArray(elements); return requestDrag(); },
   commitSelection,

@@ -4,7 +4,8 @@
 // checks that the mesh moved, the handle reached its target, one factorisation served every drag,
 // and malformed requests get 400; that the page shows its round trip, the drag replies are binary
 // and not compressed, two drags sent back to back end at the second one (the first never applied
-// after it), API calls without the token or from another origin are refused, and a second server
+// after it), a drag released while its selection is still preprocessed ends at the release,
+// API calls without the token or from another origin are refused, and a second server
 // on a taken port fails naming the port. Writes a screenshot (editor.png) to --out.
 //   usage: node viewer/test/editor_test.mjs --server PATH/laplacian_deform [--out DIR] [--chromium PATH]
 import { test, after } from 'node:test';
@@ -230,6 +231,32 @@ test('paint, drag, rotate, switch policy in the editor page', { timeout: 300000 
   // reset: back to rest
   await page.click('#reset');
   await page.waitForFunction((r) => window.editor.positions().every((x, i) => Math.abs(x - r[i]) < 1e-5), rest);
+
+  // a drag that moves and is released while its selection is still being preprocessed (the
+  // selection's reply held back 1.5 s): nothing is lost, the handle ends where the pointer was
+  // released, and the pointer moving afterwards without a button drags nothing
+  // (the page's drag numbers continue past those the race above sent without it)
+  await page.evaluate(() => { window.editor.state.selectionDirty = true; window.editor.state.seq += 2000; });
+  await page.route('**/api/select', async (route) => { await new Promise((r) => setTimeout(r, 1500)); await route.continue(); });
+  const before2 = await page.evaluate(() => window.editor.state.updates);
+  const h2 = await page.evaluate((v) => window.editor.screenOf(v), center);
+  await page.mouse.move(h2.x, h2.y);
+  await page.mouse.down();
+  await page.mouse.move(h2.x + 30, h2.y - 100, { steps: 6 });
+  await page.mouse.up();
+  const duringPreprocess = await page.evaluate(() => window.editor.state.updates);
+  await page.evaluate(() => window.editor.idle());
+  await page.unroute('**/api/select');
+  const late = await page.evaluate(() => ({ updates: window.editor.state.updates, handleError: window.editor.handleError(),
+                                            positions: window.editor.positions() }));
+  assert.equal(duringPreprocess, before2, 'no drag before the selection is ready');
+  assert.equal(late.updates, before2 + 1, 'one drag, to where the pointer was released');
+  assert.ok(late.handleError < 1e-5 * diag, `the handle is ${late.handleError} from its target`);
+  const lateMove = Math.hypot(...[0, 1, 2].map((k) => late.positions[3 * center + k] - rest[3 * center + k]));
+  assert.ok(lateMove > 0.02 * diag, `the handle moved by ${lateMove} (diagonal ${diag})`);
+  await page.mouse.move(h2.x - 50, h2.y + 40, { steps: 4 });
+  await page.evaluate(() => window.editor.idle());
+  assert.equal(await page.evaluate(() => window.editor.state.updates), late.updates, 'no drag after the button was released');
   assert.deepEqual(errors, []);
 });
 
