@@ -3,7 +3,7 @@
 // vertex- vs edge-based (cotangent weights, S*R1), next to CGAL's Surface_mesh_deformation
 // (ORIGINAL_ARAP, its default solver) on the same ROI, on CGAL's armadillo (level 0, 26k vertices)
 // and its Loop subdivisions (CGAL::Subdivision_method_3::Loop_subdivision: level 1 ~104k, level 2
-// ~416k vertices; computed once and cached as armadillo_loop<L>.off in the data folder).
+// ~416k vertices; computed once per process).
 // vertex_any, edge_any (level 0 only): the same with the run-time policies Any_weights and
 // Any_transform (holding the defaults), the cost of the type erasure against the static path.
 // ROIs: "all_but_2pct" = every vertex but the 2% lowest in y (fixed), "roi_10pct" = the 10%
@@ -351,7 +351,8 @@ void BM_first_touch(benchmark::State& state)
   state.counters["ms_per_mb"] = pages > 0 ? 1e3 * seconds / pages * 1e6 / double(page) : 0.;
 }
 
-// the armadillo subdivided `level` times (cached in the data folder)
+// the armadillo subdivided `level` times, computed at its first use (reading a 416k-vertex OFF file
+// takes longer here than the two subdivisions)
 const Mesh& armadillo(int level)
 {
   static std::map<int, Mesh> meshes;
@@ -359,19 +360,11 @@ const Mesh& armadillo(int level)
   if(it != meshes.end())
     return it->second;
   const std::string data(LAPLACIAN_DEFORMATION_DATA_DIR);
-  const std::string cached = data + "/armadillo_loop" + std::to_string(level) + ".off";
   Mesh m;
-  if(level > 0 && std::filesystem::exists(cached) && CGAL::IO::read_polygon_mesh(cached, m) && !is_empty(m))
-    return meshes[level] = m;
   if(!CGAL::IO::read_polygon_mesh(data + "/armadillo.off", m) || is_empty(m))
     throw std::runtime_error("cannot read armadillo.off: run scripts/setup.sh");
   if(level > 0)
-  {
     CGAL::Subdivision_method_3::Loop_subdivision(m, CGAL::parameters::number_of_iterations(level));
-    const std::string tmp = cached + ".tmp";
-    if(CGAL::IO::write_polygon_mesh(tmp, m, CGAL::parameters::stream_precision(17)))
-      std::filesystem::rename(tmp, cached);
-  }
   return meshes[level] = m;
 }
 
