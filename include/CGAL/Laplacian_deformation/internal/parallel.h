@@ -31,6 +31,18 @@ constexpr bool runs_in_parallel()
 #endif
 }
 
+#ifdef CGAL_LINKED_WITH_TBB
+// the parallel loop of for_each_block(): `call(f, begin, end)` per block of about `grain` on TBB's
+// threads. Not a template, so that TBB's parallel_for is instantiated once for every body of the
+// package (a body is called through a function pointer, once per block)
+inline void parallel_blocks(std::size_t n, std::size_t grain, void (*call)(const void*, std::size_t, std::size_t),
+                            const void* f)
+{
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
+                    [call, f](const tbb::blocked_range<std::size_t>& range) { call(f, range.begin(), range.end()); });
+}
+#endif
+
 // f(begin, end) over [0, n) in blocks of about `grain`, on TBB's threads when `parallel`
 template <class F>
 void for_each_block(std::size_t n, bool parallel, const F& f, std::size_t grain = 256)
@@ -38,8 +50,9 @@ void for_each_block(std::size_t n, bool parallel, const F& f, std::size_t grain 
 #ifdef CGAL_LINKED_WITH_TBB
   if(parallel)
   {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
-                      [&f](const tbb::blocked_range<std::size_t>& range) { f(range.begin(), range.end()); });
+    parallel_blocks(n, grain, [](const void* body, std::size_t begin, std::size_t end) {
+      (*static_cast<const F*>(body))(begin, end);
+    }, &f);
     return;
   }
 #else
