@@ -21,6 +21,9 @@
 #include <Eigen/SparseLU>
 
 #include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <cstdlib>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -176,6 +179,35 @@ TEST(HugePages, HelpersKeepTheValues)
   EXPECT_EQ(h.back(), (1 << 21) - 1);
   LD::internal::Huge_vector<int>().swap(h);
   EXPECT_EQ(h.capacity(), 0u);
+}
+
+// prefaulting (MADV_POPULATE_WRITE) maps pages, never changes what is in them: written memory keeps
+// its values, fresh memory reads as zeros; it is refused for null and small regions; Fresh_vector
+// is a std::vector whose blocks are prepared
+TEST(HugePages, PrefaultKeepsTheValues)
+{
+  EXPECT_FALSE(LD::internal::prefault_at(0, std::size_t(64) << 20));
+  std::vector<char> small(LD::internal::prefault_min_bytes - 1, 1);
+  EXPECT_FALSE(LD::internal::prefault_at(reinterpret_cast<std::uintptr_t>(small.data()), small.size()))
+      << "below 64 KiB";
+  const std::size_t n = std::size_t(3) << 20;   // 24 MiB of doubles, from a fresh mapping
+  std::unique_ptr<double, void (*)(void*)> written(static_cast<double*>(std::malloc(n * sizeof(double))), std::free);
+  ASSERT_TRUE(written);
+  for(std::size_t i = 0; i < n; i += 97)
+    written.get()[i] = double(i) + 0.5;
+  LD::internal::prefault_at(reinterpret_cast<std::uintptr_t>(written.get()), n * sizeof(double));
+  bool same = true;
+  for(std::size_t i = 0; i < n; i += 97)
+    same = same && written.get()[i] == double(i) + 0.5;
+  EXPECT_TRUE(same);
+  std::unique_ptr<double, void (*)(void*)> fresh(static_cast<double*>(std::calloc(n, sizeof(double))), std::free);
+  ASSERT_TRUE(fresh);
+  LD::internal::prepare_fresh_at(reinterpret_cast<std::uintptr_t>(fresh.get()) + 3, n * sizeof(double) - 3);
+  EXPECT_TRUE(std::all_of(fresh.get(), fresh.get() + n, [](double x) { return x == 0.; }));
+  LD::internal::Fresh_vector<double> v(n, 2.5);
+  EXPECT_TRUE(std::all_of(v.begin(), v.end(), [](double x) { return x == 2.5; }));
+  LD::internal::Fresh_vector<std::atomic<unsigned char>> marks(std::size_t(1) << 20);
+  EXPECT_TRUE(std::all_of(marks.begin(), marks.end(), [](const std::atomic<unsigned char>& m) { return m.load() == 0; }));
 }
 
 TEST(LeastSquaresSolver, MatchesDenseQR)
@@ -478,6 +510,32 @@ TEST(NormalMatrix, MatchesEigenProductFullAndLower)
     EXPECT_LE((LD::internal::normal_matrix(a, at2, false) - Eigen::SparseMatrix<double>(at2 * a)).norm(),
               1e-14 * reference.norm());
   }
+}
+
+// internal::branchless_lower_bound (the row search of A^T A's assembly): std::lower_bound's
+// answer on every key of sorted ranges of every length up to 40, duplicates and empty ranges included
+TEST(NormalMatrix, BranchlessLowerBoundIsLowerBound)
+{
+  std::mt19937 g(11);
+  std::size_t checked = 0;
+  for(int length = 0; length <= 40; ++length)
+    for(int trial = 0; trial < 20; ++trial)
+    {
+      std::vector<int> v(static_cast<std::size_t>(length));
+      std::uniform_int_distribution<int> value(0, 2 * length);
+      for(int& x : v)
+        x = value(g);
+      std::sort(v.begin(), v.end());
+      for(int key = -1; key <= 2 * length + 1; ++key)
+      {
+        const int* first = v.data();
+        const int* last = v.data() + v.size();
+        EXPECT_EQ(LD::internal::branchless_lower_bound(first, last, key), std::lower_bound(first, last, key))
+            << "length " << length << " key " << key;
+        ++checked;
+      }
+    }
+  EXPECT_GT(checked, std::size_t(10000));
 }
 
 // which traits get only the lower triangle

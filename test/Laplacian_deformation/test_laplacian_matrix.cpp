@@ -12,6 +12,8 @@
 
 #include <CGAL/property_map.h>
 
+#include <algorithm>
+#include <cstring>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -200,7 +202,8 @@ TEST(LaplacianMatrix, RealMeshEdgeRowsAboutThreeTimesVertexRows)
   EXPECT_LE((de * ones).cwiseAbs().maxCoeff(), 1e-12 * values.cwiseAbs().sum());
 }
 
-// The row-by-row assembly of D equals the product L_w P it stands for.
+// The row-by-row assembly of D equals the product L_w P it stands for, and bitwise the documented
+// summation of each entry (its terms in the row's order).
 TEST(LaplacianMatrix, DirectAssemblyEqualsProductOfWeightsAndCombinations)
 {
   Surface_mesh m;
@@ -228,8 +231,51 @@ TEST(LaplacianMatrix, DirectAssemblyEqualsProductOfWeightsAndCombinations)
     EXPECT_EQ(d.cols(), product.cols());
     EXPECT_LE((d - product).norm(), 1e-14 * product.norm());
     EXPECT_LE(d.nonZeros(), product.nonZeros());
+    // bitwise, the documented summation: a row's terms (neighbours, then x_a), stably sorted by
+    // vertex, each entry the sum in that order from 0; exact zeros dropped; columns increasing
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> by_rows = LD::internal::laplacian_operator(s);
+    std::size_t rows_with_merged_terms = 0;
+    for(std::size_t a = 0; a < s.number_of_nodes; ++a)
+    {
+      std::vector<std::pair<std::size_t, double>> terms;
+      double diagonal = 0;
+      for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
+      {
+        diagonal += s.weight[k];
+        const std::size_t b = s.neighbor[k];
+        for(std::size_t j = s.combination_start[b]; j < s.combination_start[b + 1]; ++j)
+          terms.emplace_back(s.combination_vertex[j], -s.weight[k] * s.combination_coefficient[j]);
+      }
+      if(s.degree(a) > 0)
+        for(std::size_t j = s.combination_start[a]; j < s.combination_start[a + 1]; ++j)
+          terms.emplace_back(s.combination_vertex[j], diagonal * s.combination_coefficient[j]);
+      std::stable_sort(terms.begin(), terms.end(),
+                       [](const auto& x, const auto& y) { return x.first < y.first; });
+      std::vector<std::pair<std::size_t, double>> expected;
+      for(std::size_t i = 0; i < terms.size();)
+      {
+        double sum = 0.;
+        const std::size_t v = terms[i].first;
+        for(; i < terms.size() && terms[i].first == v; ++i)
+          sum += terms[i].second;
+        if(sum != 0)
+          expected.emplace_back(v, sum);
+      }
+      rows_with_merged_terms += expected.size() < terms.size();
+      std::vector<std::pair<std::size_t, double>> got;
+      for(Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(by_rows, Eigen::Index(a)); it; ++it)
+        got.emplace_back(std::size_t(it.col()), it.value());
+      EXPECT_EQ(got.size(), expected.size()) << "row " << a;
+      for(std::size_t i = 0; i < (std::min)(got.size(), expected.size()); ++i)
+      {
+        EXPECT_EQ(got[i].first, expected[i].first) << "row " << a;
+        EXPECT_EQ(std::memcmp(&got[i].second, &expected[i].second, sizeof(double)), 0) << "row " << a;
+      }
+    }
+    return rows_with_merged_terms;
   };
-  check(LD::internal::weighted_stencils(m, LD::Edge_based_representation(), LD::Cotangent_weights(), vpm, vim, Kernel()));
+  const auto edge = LD::internal::weighted_stencils(m, LD::Edge_based_representation(), LD::Cotangent_weights(), vpm, vim, Kernel());
+  EXPECT_GT(check(edge), edge.number_of_nodes / 2);   // an edge row's terms share vertices: merged
   check(LD::internal::weighted_stencils(m, LD::Vertex_based_representation(), LD::Uniform_weights(), vpm, vim, Kernel()));
 }
 

@@ -154,9 +154,14 @@ public:
        matrix.rows() != matrix.cols() || matrix.rows() != Eigen::Index(l->n) ||
        !internal::Dense_kernels::instance().available())
       return Base::factorize(matrix);
-    if(l->xtype == CHOLMOD_PATTERN &&
-       !cholmod_change_factor(CHOLMOD_REAL, 1, 1, 1, 1, l, &cholmod()))   // allocates the values
-      return Base::factorize(matrix);
+    if(l->xtype == CHOLMOD_PATTERN)
+    {
+      if(!cholmod_change_factor(CHOLMOD_REAL, 1, 1, 1, 1, l, &cholmod()))   // allocates the values
+        return Base::factorize(matrix);
+      // fresh, and written in full by the factorisation below: mapped at once (internal/huge_pages.h)
+      if(l->xtype == CHOLMOD_REAL && l->x != nullptr)
+        internal::prefault_at(reinterpret_cast<std::uintptr_t>(l->x), l->xsize * sizeof(double));
+    }
     if(l->xtype != CHOLMOD_REAL || !l->is_ll)
       return Base::factorize(matrix);
     const int n = int(l->n);

@@ -12,6 +12,7 @@
 #include <CGAL/Laplacian_deformation/internal/Laplacian_stencils.h>
 #include <CGAL/Laplacian_deformation/internal/batched_transforms.h>
 #include <CGAL/Laplacian_deformation/internal/closest_rotation_3.h>
+#include <CGAL/Laplacian_deformation/internal/normal_matrix.h>
 #include <CGAL/Laplacian_deformation/internal/parallel.h>
 #include <CGAL/Laplacian_deformation/internal/Policy_variant.h>
 
@@ -82,7 +83,7 @@ public:
     if(n > std::size_t((std::numeric_limits<int>::max)()))
       throw std::length_error("Laplacian_deformation: the mesh is too large for the system's 32-bit indices "
                               "(more than 2^31 - 1 vertices)");
-    m_unknown_index.assign(n, -1);
+    assign_huge(m_unknown_index, n, -1);
     m_unknowns.clear();
     for(std::size_t v = 0; v < n; ++v)
       if(is_unknown(role[v]))
@@ -101,7 +102,7 @@ public:
     const Index* d_nonzeros = d.innerNonZeroPtr();   // null when compressed
     auto row_end = [&](std::size_t a) { return d_nonzeros ? d_outer[a] + d_nonzeros[a] : d_outer[a + 1]; };
     {
-      std::vector<unsigned char> touches(std::size_t(d.rows()), 0);
+      Fresh_vector<unsigned char> touches(std::size_t(d.rows()), 0);
       for_each_block(touches.size(), [&](std::size_t begin, std::size_t end) {
         for(std::size_t a = begin; a < end; ++a)
           for(Index k = d_outer[a]; k < row_end(a) && !touches[a]; ++k)
@@ -122,7 +123,7 @@ public:
     }
     else
     {
-      std::vector<long> fit_index(s.number_of_nodes, -1);
+      Fresh_vector<long> fit_index(s.number_of_nodes, -1);
       for(std::size_t r : m_rows)
         fit_index[(*owner)[r]] = 0;
       m_fit_nodes.clear();
@@ -143,7 +144,7 @@ public:
     // counts give each block its own range in every column, and the blocks fill them at once
     // (the same matrix as a sequential pass: each column's rows increase).
     m_soft.clear();
-    std::vector<char> soft_column(m_unknowns.size(), 0);
+    Fresh_vector<char> soft_column(m_unknowns.size(), 0);
     for(std::size_t j = 0; j < m_unknowns.size(); ++j)
       if(role[m_unknowns[j]] == SOFT_CONTROL_VERTEX)
       {
@@ -153,8 +154,8 @@ public:
     const bool parallel = runs_in_parallel<ConcurrencyTag>();
     const std::size_t blocks = parallel && m_rows.size() > 16384 ? 4 : 1;
     auto block_rows = [&](std::size_t block) { return m_rows.size() * block / blocks; };
-    std::vector<std::vector<Index>> next_a(blocks, std::vector<Index>(std::size_t(nu), 0));
-    std::vector<Index> a_outer(std::size_t(nu) + 1, 0), k_outer(m_rows.size() + 1, 0);
+    std::vector<Fresh_vector<Index>> next_a(blocks, Fresh_vector<Index>(std::size_t(nu), 0));
+    Fresh_vector<Index> a_outer(std::size_t(nu) + 1, 0), k_outer(m_rows.size() + 1, 0);
     internal::for_each_block(blocks, parallel, [&](std::size_t first, std::size_t last) {
       for(std::size_t block = first; block < last; ++block)
         for(std::size_t r = block_rows(block); r < block_rows(block + 1); ++r)
@@ -195,7 +196,7 @@ public:
     internal::for_each_block(blocks, parallel, [&](std::size_t first, std::size_t last) {
       for(std::size_t block = first; block < last; ++block)
       {
-        std::vector<Index>& next = next_a[block];
+        Fresh_vector<Index>& next = next_a[block];
         for(std::size_t r = block_rows(block); r < block_rows(block + 1); ++r)
         {
           Index known = k_outer[r];
@@ -217,11 +218,11 @@ public:
         }
       }
     }, 1);
-    std::vector<std::vector<Index>>().swap(next_a);
+    std::vector<Fresh_vector<Index>>().swap(next_a);
 
     // the connected parts of the unknowns (rows join their unknowns), the sum of the squares of
     // A's entries and their finiteness: one pass in row order; the diagonal of A^T A per column
-    std::vector<long> first_unknown(m_rows.size(), -1);
+    Fresh_vector<long> first_unknown(m_rows.size(), -1);
     Union_find components(m_unknowns.size());
     double sum_squares = 0;
     bool operator_finite = true;
@@ -242,7 +243,7 @@ public:
           components.join(std::size_t(first), std::size_t(j));
       }
     }
-    std::vector<double> column_squares(m_unknowns.size(), 0.);   // the diagonal of A^T A
+    Fresh_vector<double> column_squares(m_unknowns.size(), 0.);   // the diagonal of A^T A
     for_each_block(std::size_t(nu), [&](std::size_t begin, std::size_t end) {
       for(std::size_t j = begin; j < end; ++j)
         for(Index k = a_outer[j]; k < a_outer[j + 1] - soft_column[j]; ++k)
@@ -251,14 +252,14 @@ public:
     auto row_has_known = [&](std::size_t r) { return k_outer[r + 1] > k_outer[r]; };
 
     // singular configurations: a connected part of the unknowns with no anchor
-    std::vector<char> anchored(m_unknowns.size(), 0);
+    Fresh_vector<char> anchored(m_unknowns.size(), 0);
     for(std::size_t r = 0; r < m_rows.size(); ++r)
       if(row_has_known(r) && first_unknown[r] >= 0)
         anchored[components.find(std::size_t(first_unknown[r]))] = 1;
     for(std::size_t j = 0; j < m_unknowns.size(); ++j)
       if(role[m_unknowns[j]] == SOFT_CONTROL_VERTEX)
         anchored[components.find(j)] = 1;
-    std::vector<std::size_t> unanchored_size(m_unknowns.size(), 0);
+    Fresh_vector<std::size_t> unanchored_size(m_unknowns.size(), 0);
     for(std::size_t j = 0; j < m_unknowns.size(); ++j)
       if(!anchored[components.find(j)])
         result.unanchored_size = (std::max)(result.unanchored_size, ++unanchored_size[components.find(j)]);
@@ -333,7 +334,7 @@ public:
       const Index* begin = d_inner + d_outer[a];
       const Index* const end = d_inner + (d_nonzeros ? d_outer[a] + d_nonzeros[a] : d_outer[a + 1]);
       if(j > 0)
-        begin = std::lower_bound(begin, end, Index(unknowns[std::size_t(j)]));
+        begin = branchless_lower_bound(begin, end, Index(unknowns[std::size_t(j)]));
       for(const Index* p = begin; p != end; ++p)
       {
         const long u = unknown_index[*p];
@@ -360,7 +361,7 @@ public:
     for(std::size_t a : m_fit_nodes)
       m_max_degree = (std::max)(m_max_degree, s.degree(a));
     // the nodes the local step evaluates: the fitted nodes and their neighbours, each once
-    std::vector<char> needed(s.number_of_nodes, 0);
+    Fresh_vector<char> needed(s.number_of_nodes, 0);
     for(std::size_t a : m_fit_nodes)
     {
       needed[a] = 1;
@@ -520,7 +521,7 @@ private:
       return i;
     }
     void join(std::size_t i, std::size_t j) { parent[find(i)] = find(j); }
-    std::vector<std::size_t> parent;
+    Fresh_vector<std::size_t> parent;   // written in full at construction
   };
 
   // f(begin, end) over [0, n) in blocks, in parallel when ConcurrencyTag and TBB allow it

@@ -256,10 +256,10 @@ Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t numbe
     // other neighbours (both rows), 2 for the rows' other neighbours. The same sets as the
     // walk below, then listed in node order without a sort.
     const std::size_t n = nodes.number_of_nodes();
-    std::vector<node_descriptor> by_index(n);
+    Fresh_vector<node_descriptor> by_index(n);   // fresh arrays written in full: prepared (huge_pages.h)
     for(node_descriptor a : nodes.nodes())
       by_index[nodes.index(a)] = a;
-    std::vector<std::atomic<unsigned char>> mark(n);   // value-initialised: 0
+    Fresh_vector<std::atomic<unsigned char>> mark(n);   // value-initialised: 0
     auto meet = [&](const node_descriptor& b, unsigned char level) {
       std::atomic<unsigned char>& m = mark[nodes.index(b)];
       if(m.load(std::memory_order_relaxed) == 0)
@@ -434,24 +434,37 @@ inline Eigen::SparseMatrix<double> combination_matrix(const Laplacian_stencils& 
 }
 
 // The terms of row a of D = L_w P (see laplacian_operator()) merged by vertex: f(v, D(a, v)) in
-// increasing v, exact zeros dropped; `terms` is scratch.
+// increasing v, exact zeros dropped; `terms` is scratch. The terms, in the order neighbours then
+// x_a, are summed per vertex in that order (0 + t1 + t2 + ...: what a stable sort by vertex and a
+// sum in sorted order give, bitwise) into a list of the distinct vertices, which is then sorted: a
+// row has a few dozen terms on a dozen vertices, so that sorting the distinct vertices only (and
+// finding a term's vertex by a scan of them) moves far fewer entries than sorting every term.
 template <class F>
 void laplacian_operator_row(const Laplacian_stencils& s, std::size_t a,
                             std::vector<std::pair<std::size_t, double>>& terms, const F& f)
 {
   terms.clear();
+  auto add = [&terms](std::size_t v, double t) {
+    for(std::pair<std::size_t, double>& e : terms)
+      if(e.first == v)
+      {
+        e.second += t;
+        return;
+      }
+    terms.emplace_back(v, 0. + t);
+  };
   double diagonal = 0;
   for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
   {
     const std::size_t b = s.neighbor[k];
     diagonal += s.weight[k];
     for(std::size_t j = s.combination_start[b]; j < s.combination_start[b + 1]; ++j)
-      terms.emplace_back(s.combination_vertex[j], -s.weight[k] * s.combination_coefficient[j]);
+      add(s.combination_vertex[j], -s.weight[k] * s.combination_coefficient[j]);
   }
   if(s.neighbor_start[a + 1] > s.neighbor_start[a])
     for(std::size_t j = s.combination_start[a]; j < s.combination_start[a + 1]; ++j)
-      terms.emplace_back(s.combination_vertex[j], diagonal * s.combination_coefficient[j]);
-  // a stable insertion sort: a row has a few dozen terms (std::stable_sort would allocate)
+      add(s.combination_vertex[j], diagonal * s.combination_coefficient[j]);
+  // an insertion sort of the distinct vertices (std::sort would not be faster on a dozen)
   for(std::size_t i = 1; i < terms.size(); ++i)
   {
     const std::pair<std::size_t, double> t = terms[i];
@@ -460,22 +473,16 @@ void laplacian_operator_row(const Laplacian_stencils& s, std::size_t a,
       terms[j] = terms[j - 1];
     terms[j] = t;
   }
-  for(std::size_t i = 0; i < terms.size();)
-  {
-    const std::size_t v = terms[i].first;
-    double sum = 0.;
-    for(; i < terms.size() && terms[i].first == v; ++i)
-      sum += terms[i].second;
-    if(sum != 0)
-      f(v, sum);
-  }
+  for(const std::pair<std::size_t, double>& e : terms)
+    if(e.second != 0)
+      f(e.first, e.second);
 }
 
 // The Laplacian operator D = L_w P (rows: nodes, columns: vertices; stored by rows),
 // delta_a = sum_b w_ab (x_a - x_b) = (D p)_a. Assembled row by row (row a combines the
-// vertices of x_a and of its neighbours) without forming L_w and the sparse product: the terms
-// of a row, in the order neighbours then x_a, are stably sorted by vertex and each entry is the
-// sum of its terms in that order; exact zeros (cancellations) are dropped. Two passes over the
+// vertices of x_a and of its neighbours) without forming L_w and the sparse product: each entry
+// is the sum of its vertex's terms in the row's order of terms (neighbours, then x_a), the
+// entries in increasing vertex order; exact zeros (cancellations) are dropped. Two passes over the
 // rows, on TBB's threads with `parallel`: the first counts each row's entries, the second writes
 // them in place (the matrix is allocated once at its size and written once: no copy, and fresh
 // memory is slow to touch on some machines). No other memory proportional to the mesh.

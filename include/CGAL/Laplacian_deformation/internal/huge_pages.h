@@ -79,14 +79,76 @@ inline bool advise_huge_pages(const void* p, std::size_t bytes)
   return advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(p), bytes);
 }
 
-// v.reserve(n), the fresh storage advised before it is written (v empty: nothing written yet)
+// Prefaulting. Where huge pages are not given (regions under 4 MiB, the parts of a region outside
+// its whole 2 MiB pages, or no transparent huge pages at all), each fresh 4 KiB page still costs a
+// page fault at its first write, and on the virtual machines here a fault is an exit to the
+// hypervisor: about 10 to 20 us each. madvise(MADV_POPULATE_WRITE) (Linux 5.14 and later) maps the
+// pages of a region at once, as writes would, in one system call: the same pages, the same memory,
+// without a fault per page. It is asked only for regions about to be written in full (so that the
+// memory used does not change), of at least 64 KiB; elsewhere (other systems, older kernels: the
+// call fails, and nothing changes) the first writes fault as before. The environment variable
+// CGAL_LAPLACIAN_DEFORMATION_PREFAULT=0, read once, turns it off.
+#if CGAL_LAPDEF_HUGE_PAGES && defined(__linux__)
+#ifndef MADV_POPULATE_WRITE
+#define MADV_POPULATE_WRITE 23   // Linux's value, for C libraries older than the kernel
+#endif
+#define CGAL_LAPDEF_PREFAULT 1
+#else
+#define CGAL_LAPDEF_PREFAULT 0
+#endif
+
+// whether fresh regions are prefaulted (false when compiled out or CGAL_LAPLACIAN_DEFORMATION_PREFAULT=0)
+inline bool prefault_enabled()
+{
+#if CGAL_LAPDEF_PREFAULT
+  static const bool enabled = [] {
+    const char* e = std::getenv("CGAL_LAPLACIAN_DEFORMATION_PREFAULT");
+    return e == nullptr || std::strcmp(e, "0") != 0;
+  }();
+  return enabled;
+#else
+  return false;
+#endif
+}
+
+constexpr std::size_t prefault_min_bytes = std::size_t(64) << 10;
+
+// maps the whole 4 KiB pages inside [address, address + bytes), a region of at least 64 KiB that
+// the caller writes in full next; returns whether the request was made and accepted
+inline bool prefault_at(std::uintptr_t address, std::size_t bytes)
+{
+#if CGAL_LAPDEF_PREFAULT
+  constexpr std::uintptr_t page = 4096;   // the smallest page size of Linux on x86 and ARM
+  if(address == 0 || bytes < prefault_min_bytes || !prefault_enabled())
+    return false;
+  const std::uintptr_t begin = (address + page - 1) & ~(page - 1);
+  const std::uintptr_t end = (address + bytes) & ~(page - 1);
+  if(end <= begin)
+    return false;
+  return madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE) == 0;
+#else
+  (void)address;
+  (void)bytes;
+  return false;
+#endif
+}
+
+// a fresh region about to be written in full: huge pages advised (see above), then prefaulted
+inline void prepare_fresh_at(std::uintptr_t address, std::size_t bytes)
+{
+  advise_huge_pages_at(address, bytes);
+  prefault_at(address, bytes);
+}
+
+// v.reserve(n), the fresh storage prepared (prepare_fresh_at()) before it is written (v empty: nothing
+// written yet); the caller writes its n elements
 template <class T, class A>
 void reserve_huge(std::vector<T, A>& v, std::size_t n)
 {
   const bool fresh = v.capacity() < n;
   v.reserve(n);
   if(fresh && v.empty())
-    advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(v.data()), n * sizeof(T));
+    prepare_fresh_at(reinterpret_cast<std::uintptr_t>(v.data()), n * sizeof(T));
 }
 
 // v.assign(n, value) with the storage advised first when it is fresh
@@ -116,7 +178,7 @@ void resize_huge(std::vector<T, A>& v, std::size_t n)
   v.resize(n);
 }
 
-// m.resize(rows, cols) for a dense Eigen matrix, its storage advised when the resize allocates it
+// m.resize(rows, cols) for a dense Eigen matrix, its storage prepared when the resize allocates it
 // afresh (the values are then uninitialised, as after Eigen's resize)
 template <class Dense>
 void resize_dense_huge(Dense& m, std::ptrdiff_t rows, std::ptrdiff_t cols)
@@ -124,17 +186,17 @@ void resize_dense_huge(Dense& m, std::ptrdiff_t rows, std::ptrdiff_t cols)
   const bool fresh = m.size() != rows * cols;
   m.resize(rows, cols);
   if(fresh)
-    advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(m.data()), std::size_t(m.size()) * sizeof(*m.data()));
+    prepare_fresh_at(reinterpret_cast<std::uintptr_t>(m.data()), std::size_t(m.size()) * sizeof(*m.data()));
 }
 
-// the value and index arrays of a compressed sparse matrix just sized by resizeNonZeros()
+// the value and index arrays of a compressed sparse matrix just sized by resizeNonZeros(), prepared
+// (prepare_fresh_at()) before the caller writes them
 template <class SparseMatrix>
 void advise_sparse_storage(SparseMatrix& m)
 {
-  advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(m.valuePtr()),
-                       std::size_t(m.nonZeros()) * sizeof(*m.valuePtr()));
-  advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(m.innerIndexPtr()),
-                       std::size_t(m.nonZeros()) * sizeof(*m.innerIndexPtr()));
+  prepare_fresh_at(reinterpret_cast<std::uintptr_t>(m.valuePtr()), std::size_t(m.nonZeros()) * sizeof(*m.valuePtr()));
+  prepare_fresh_at(reinterpret_cast<std::uintptr_t>(m.innerIndexPtr()),
+                   std::size_t(m.nonZeros()) * sizeof(*m.innerIndexPtr()));
 }
 
 // a^T (compressed, sorted), its fresh storage advised before it is written: what Eigen's
@@ -191,6 +253,35 @@ struct Huge_allocator
 };
 template <class T>
 using Huge_vector = std::vector<T, Huge_allocator<T>>;
+
+// An allocator for the vectors of a preprocess that are written in full once sized (constructed
+// with their size, or assign()ed, and not grown later): each fresh block is prepared
+// (prepare_fresh_at(): huge pages advised, pages mapped at once) before it is written.
+template <class T>
+struct Fresh_allocator
+{
+  typedef T value_type;
+  Fresh_allocator() = default;
+  template <class U>
+  Fresh_allocator(const Fresh_allocator<U>&) {}
+  T* allocate(std::size_t n)
+  {
+    if(n > std::size_t(-1) / sizeof(T))
+      throw std::bad_alloc();
+    void* p = std::malloc(n * sizeof(T) + (n == 0));
+    if(p == nullptr)
+      throw std::bad_alloc();
+    prepare_fresh_at(reinterpret_cast<std::uintptr_t>(p), n * sizeof(T));
+    return static_cast<T*>(p);
+  }
+  void deallocate(T* p, std::size_t) { std::free(p); }
+  template <class U>
+  bool operator==(const Fresh_allocator<U>&) const { return true; }
+  template <class U>
+  bool operator!=(const Fresh_allocator<U>&) const { return false; }
+};
+template <class T>
+using Fresh_vector = std::vector<T, Fresh_allocator<T>>;
 
 // Allocation functions for SuiteSparse (CHOLMOD's factor is the largest array of a preprocess):
 // the C library's, and an advice for large blocks. free() is the C library's.

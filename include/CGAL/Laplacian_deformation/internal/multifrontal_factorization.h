@@ -308,6 +308,7 @@ private:
         stack.reset(static_cast<double*>(huge_malloc(stack_size * sizeof(double))));
         if(!stack)
           throw std::bad_alloc();
+        prefault_at(reinterpret_cast<std::uintptr_t>(stack.get()), stack_size * sizeof(double));   // used in full at its peak
         capacity = stack_size;
       }
       top = 0;
@@ -360,6 +361,7 @@ private:
     double* p = static_cast<double*>(huge_malloc(size * sizeof(double)));
     if(p == nullptr)
       throw std::bad_alloc();
+    prefault_at(reinterpret_cast<std::uintptr_t>(p), size * sizeof(double));   // written in full below
     m_exported[std::size_t(s)].reset(p);
     std::memcpy(p, m_update[std::size_t(s)], size * sizeof(double));
     m_update[std::size_t(s)] = p;

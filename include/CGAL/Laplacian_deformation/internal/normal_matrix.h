@@ -40,6 +40,25 @@ struct Solver_traits_read_lower_triangle : std::false_type {};
 template <class S>
 struct Solver_traits_read_lower_triangle<CGAL::Eigen_solver_traits<S>> : Eigen_solver_reads_lower_triangle<S> {};
 
+// The first element of the sorted range [first, last) that is not less than `key` (as
+// std::lower_bound), by a binary search whose steps are conditional moves, not branches: the rows
+// of A^T A's assembly are a dozen entries long and searched once per term of a column, where
+// std::lower_bound's mispredicted branches were the assembly's largest cost.
+template <class Index>
+const Index* branchless_lower_bound(const Index* first, const Index* last, Index key)
+{
+  std::size_t length = std::size_t(last - first);
+  if(length == 0)
+    return first;
+  while(length > 1)
+  {
+    const std::size_t half = length / 2;
+    first = first[half] < key ? first + half : first;
+    length -= half;
+  }
+  return first + (*first < key);
+}
+
 // N = A^T A, column by column: N(:, j) = sum over the rows r of column j of A of
 // A(r, j) * A(r, :)^T. `a` is A (compressed, sorted columns); `rows(r, j, f)` calls f(i, A(r, i))
 // for the entries i >= j of row r of A, in increasing i (the same values as `a`'s: A by rows in
@@ -166,7 +185,7 @@ inline Eigen::SparseMatrix<double> normal_matrix(const Eigen::SparseMatrix<doubl
   auto rows = [t_outer, t_inner, t_value](Index r, Index j, auto&& f) {
     const Index* begin = t_inner + t_outer[r];
     const Index* end = t_inner + t_outer[r + 1];
-    for(const Index* p = j > 0 ? std::lower_bound(begin, end, j) : begin; p != end; ++p)
+    for(const Index* p = j > 0 ? branchless_lower_bound(begin, end, j) : begin; p != end; ++p)
       f(*p, t_value[p - t_inner]);
   };
   return normal_matrix_from_rows(a, rows, lower_only, parallel);
