@@ -39,19 +39,33 @@ namespace internal {
 
 constexpr std::size_t huge_page_bytes = std::size_t(2) << 20;
 
+// whether the environment variable `name` leaves a switch on (unset, or anything but "0")
+inline bool environment_switch_on(const char* name)
+{
+  const char* e = std::getenv(name);
+  return e == nullptr || std::strcmp(e, "0") != 0;
+}
+
 // whether regions are advised (false when compiled out or CGAL_LAPLACIAN_DEFORMATION_HUGE_PAGES=0)
 inline bool huge_pages_enabled()
 {
 #if CGAL_LAPDEF_HUGE_PAGES
-  static const bool enabled = [] {
-    const char* e = std::getenv("CGAL_LAPLACIAN_DEFORMATION_HUGE_PAGES");
-    return e == nullptr || std::strcmp(e, "0") != 0;
-  }();
+  static const bool enabled = environment_switch_on("CGAL_LAPLACIAN_DEFORMATION_HUGE_PAGES");
   return enabled;
 #else
   return false;
 #endif
 }
+
+#if CGAL_LAPDEF_HUGE_PAGES
+// madvise(advice) on the whole pages of `page` bytes (a power of two) inside [address, address + bytes)
+inline bool madvise_whole_pages(std::uintptr_t address, std::size_t bytes, std::uintptr_t page, int advice)
+{
+  const std::uintptr_t begin = (address + page - 1) & ~(page - 1);
+  const std::uintptr_t end = (address + bytes) & ~(page - 1);
+  return end > begin && madvise(reinterpret_cast<void*>(begin), end - begin, advice) == 0;
+}
+#endif
 
 // advises the whole huge pages inside [address, address + bytes) for regions of at least 4 MiB;
 // returns whether a request was made and accepted (an address, not a pointer: a fresh block is
@@ -61,11 +75,7 @@ inline bool advise_huge_pages_at(std::uintptr_t address, std::size_t bytes)
 #if CGAL_LAPDEF_HUGE_PAGES
   if(address == 0 || bytes < 2 * huge_page_bytes || !huge_pages_enabled())
     return false;
-  const std::uintptr_t begin = (address + huge_page_bytes - 1) & ~(huge_page_bytes - 1);
-  const std::uintptr_t end = (address + bytes) & ~(huge_page_bytes - 1);
-  if(end <= begin)
-    return false;
-  return madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE) == 0;
+  return madvise_whole_pages(address, bytes, huge_page_bytes, MADV_HUGEPAGE);
 #else
   (void)address;
   (void)bytes;
@@ -101,10 +111,7 @@ inline bool advise_huge_pages(const void* p, std::size_t bytes)
 inline bool prefault_enabled()
 {
 #if CGAL_LAPDEF_PREFAULT
-  static const bool enabled = [] {
-    const char* e = std::getenv("CGAL_LAPLACIAN_DEFORMATION_PREFAULT");
-    return e == nullptr || std::strcmp(e, "0") != 0;
-  }();
+  static const bool enabled = environment_switch_on("CGAL_LAPLACIAN_DEFORMATION_PREFAULT");
   return enabled;
 #else
   return false;
@@ -118,14 +125,9 @@ constexpr std::size_t prefault_min_bytes = std::size_t(64) << 10;
 inline bool prefault_at(std::uintptr_t address, std::size_t bytes)
 {
 #if CGAL_LAPDEF_PREFAULT
-  constexpr std::uintptr_t page = 4096;   // the smallest page size of Linux on x86 and ARM
   if(address == 0 || bytes < prefault_min_bytes || !prefault_enabled())
     return false;
-  const std::uintptr_t begin = (address + page - 1) & ~(page - 1);
-  const std::uintptr_t end = (address + bytes) & ~(page - 1);
-  if(end <= begin)
-    return false;
-  return madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE) == 0;
+  return madvise_whole_pages(address, bytes, 4096, MADV_POPULATE_WRITE);   // Linux's smallest page (x86, ARM)
 #else
   (void)address;
   (void)bytes;
@@ -226,15 +228,15 @@ SparseMatrix transposed_advised(const SparseMatrix& a)
   return t;
 }
 
-// An allocator for standard containers whose large blocks (4 MiB and more) are advised before
-// they are written: the vectors of a preprocess that grow or are sized at run time.
-template <class T>
-struct Huge_allocator
+// An allocator for standard containers whose blocks are given to `Prepare::at(address, bytes)`
+// before they are written (the C library's malloc and free).
+template <class T, class Prepare>
+struct Prepared_allocator
 {
   typedef T value_type;
-  Huge_allocator() = default;
+  Prepared_allocator() = default;
   template <class U>
-  Huge_allocator(const Huge_allocator<U>&) {}
+  Prepared_allocator(const Prepared_allocator<U, Prepare>&) {}
   T* allocate(std::size_t n)
   {
     if(n > std::size_t(-1) / sizeof(T))
@@ -242,15 +244,29 @@ struct Huge_allocator
     void* p = std::malloc(n * sizeof(T) + (n == 0));
     if(p == nullptr)
       throw std::bad_alloc();
-    advise_huge_pages_at(reinterpret_cast<std::uintptr_t>(p), n * sizeof(T));
+    Prepare::at(reinterpret_cast<std::uintptr_t>(p), n * sizeof(T));
     return static_cast<T*>(p);
   }
   void deallocate(T* p, std::size_t) { std::free(p); }
   template <class U>
-  bool operator==(const Huge_allocator<U>&) const { return true; }
+  bool operator==(const Prepared_allocator<U, Prepare>&) const { return true; }
   template <class U>
-  bool operator!=(const Huge_allocator<U>&) const { return false; }
+  bool operator!=(const Prepared_allocator<U, Prepare>&) const { return false; }
 };
+struct Advise_huge_pages
+{
+  static void at(std::uintptr_t address, std::size_t bytes) { advise_huge_pages_at(address, bytes); }
+};
+struct Prepare_fresh
+{
+  static void at(std::uintptr_t address, std::size_t bytes) { prepare_fresh_at(address, bytes); }
+};
+
+// An allocator whose large blocks (4 MiB and more) are advised before they are written: the
+// vectors of a preprocess that grow or are sized at run time (blocks that may stay partly
+// unwritten are not prefaulted).
+template <class T>
+using Huge_allocator = Prepared_allocator<T, Advise_huge_pages>;
 template <class T>
 using Huge_vector = std::vector<T, Huge_allocator<T>>;
 
@@ -258,28 +274,7 @@ using Huge_vector = std::vector<T, Huge_allocator<T>>;
 // with their size, or assign()ed, and not grown later): each fresh block is prepared
 // (prepare_fresh_at(): huge pages advised, pages mapped at once) before it is written.
 template <class T>
-struct Fresh_allocator
-{
-  typedef T value_type;
-  Fresh_allocator() = default;
-  template <class U>
-  Fresh_allocator(const Fresh_allocator<U>&) {}
-  T* allocate(std::size_t n)
-  {
-    if(n > std::size_t(-1) / sizeof(T))
-      throw std::bad_alloc();
-    void* p = std::malloc(n * sizeof(T) + (n == 0));
-    if(p == nullptr)
-      throw std::bad_alloc();
-    prepare_fresh_at(reinterpret_cast<std::uintptr_t>(p), n * sizeof(T));
-    return static_cast<T*>(p);
-  }
-  void deallocate(T* p, std::size_t) { std::free(p); }
-  template <class U>
-  bool operator==(const Fresh_allocator<U>&) const { return true; }
-  template <class U>
-  bool operator!=(const Fresh_allocator<U>&) const { return false; }
-};
+using Fresh_allocator = Prepared_allocator<T, Prepare_fresh>;
 template <class T>
 using Fresh_vector = std::vector<T, Fresh_allocator<T>>;
 
