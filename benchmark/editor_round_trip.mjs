@@ -1,10 +1,14 @@
 // Browser editor timings, measured in real Chromium (headless, software WebGL) against
 // `laplacian_deform --serve`: page load (cold profile, then a reload), opening a mesh of the data
-// folder, and drags of a 10% region of interest: the time from a pointer move until the new
-// positions are on the page (the round trip) next to the server's own `update` time.
+// folder, drags of a region of interest (10% of the mesh by default): the time from a pointer move
+// until the new positions are on the page (the round trip) next to the server's own `update` time;
+// then selections: the time from the press on a new selection until its preprocess is on the page
+// (the first selection of the session, then --selections more at other places of the view).
 // Prints the numbers; asserts nothing (timings depend on the machine and its load).
 //   usage: node benchmark/editor_round_trip.mjs --server PATH/laplacian_deform
-//            [--mesh armadillo.off] [--drags 8] [--iterations 4] [--chromium /usr/bin/chromium]
+//            [--mesh armadillo.off | --mesh-file PATH] [--roi-percent 10] [--drags 8]
+//            [--selections 4] [--iterations 4] [--chromium /usr/bin/chromium]
+// --mesh-file serves PATH as the session's "default" mesh (e.g. a large mesh outside the data folder).
 // Needs `npm ci` in viewer/ (playwright-core) and the mesh in the tool's data folder
 // (scripts/setup.sh unpacks CGAL's meshes).
 import { spawn } from 'node:child_process';
@@ -16,8 +20,11 @@ import { CHROMIUM_ARGS } from '../viewer/render.mjs';
 
 const arg = (name, fallback) => { const i = process.argv.indexOf(name); return i > 0 ? process.argv[i + 1] : fallback; };
 const tool = arg('--server', null);
-const meshName = arg('--mesh', 'armadillo.off');
+const meshFile = arg('--mesh-file', null);
+const meshName = meshFile ? 'default' : arg('--mesh', 'armadillo.off');
+const roiPercent = Number(arg('--roi-percent', '10'));
 const drags = Number(arg('--drags', '8'));
+const selections = Number(arg('--selections', '4'));
 const iterations = Number(arg('--iterations', '4'));
 const executablePath = arg('--chromium', '/usr/bin/chromium');
 if(!tool) { console.error('usage: node benchmark/editor_round_trip.mjs --server PATH/laplacian_deform [--mesh NAME]'); process.exit(2); }
@@ -27,7 +34,8 @@ const f1 = (x) => x.toFixed(1);
 
 function startServer() {
   const out = fs.mkdtempSync(path.join(os.tmpdir(), 'editor-bench-out-'));
-  const child = spawn(tool, ['--serve', '--port', '0', '--output', out], { stdio: ['ignore', 'pipe', 'pipe'] });
+  const child = spawn(tool, ['--serve', ...(meshFile ? [meshFile] : []), '--port', '0', '--output', out],
+                      { stdio: ['ignore', 'pipe', 'pipe'] });
   return new Promise((resolve, reject) => {
     let text = '';
     child.stdout.on('data', (c) => {
@@ -69,27 +77,60 @@ try {
   }, meshName);
   console.log(`open ${meshName}: ${f1(open.ms)} ms (${open.n} vertices)`);
 
-  // a 10% ROI grown around the vertex in the middle of the view, its 1-ring as the handle
+  // a ROI of --roi-percent of the mesh grown around the vertex at (x, y) of the view, its 1-ring as the handle
+  const paintSelection = async (x, y) => {
+    const handle = await page.evaluate(([px, py]) => window.editor.vertexAt(px, py), [x, y]);
+    if(handle === null) throw new Error(`no vertex at (${x}, ${y}) of the view`);
+    const counts = await page.evaluate(([h, it, fraction]) => {
+      const s = window.editor.state;
+      const ring = (v, k) => {
+        const seen = new Set([v]); let front = [v];
+        for(let r = 0; r < k && seen.size < fraction * s.n; ++r) {
+          const next = [];
+          for(const u of front) for(const w of s.neighbours[u]) if(!seen.has(w)) { seen.add(w); next.push(w); }
+          front = next;
+        }
+        return seen;
+      };
+      s.status.fill(0);
+      for(const v of ring(h, 1000)) s.status[v] = 1;
+      for(const v of ring(h, 1)) s.status[v] = 2;
+      s.selectionDirty = true;
+      document.getElementById('iterations').value = String(it);
+      return { roi: s.status.filter((x) => x === 1).length, handles: s.status.filter((x) => x === 2).length };
+    }, [handle, iterations, roiPercent / 100]);
+    return { handle, ...counts };
+  };
+  // the press on a changed selection sends it (POST /api/select, the preprocess): the time from
+  // the press until the page shows the preprocess on its timing line
+  await page.evaluate(() => {
+    window.__presses = [];
+    window.addEventListener('pointerdown', () => window.__presses.push({ at: performance.now() }), true);
+    new MutationObserver(() => {
+      const p = window.__presses[window.__presses.length - 1];
+      const m = /^preprocess ([\d.]+) ms/.exec(document.getElementById('timing').textContent);
+      if(p && m && p.shown === undefined) { p.shown = performance.now(); p.preprocess = Number(m[1]); }
+    }).observe(document.getElementById('timing'), { childList: true, characterData: true, subtree: true });
+  });
+  const pressSelection = async (handle) => {
+    const k = await page.evaluate(() => window.__presses.length) + 1;
+    const at = await page.evaluate((v) => window.editor.screenOf(v), handle);
+    await page.mouse.move(at.x, at.y);
+    await page.mouse.down();
+    await page.waitForFunction((i) => window.__presses.length >= i && window.__presses[i - 1].shown !== undefined,
+                               k, { timeout: 120000, polling: 5 });
+    const p = await page.evaluate((i) => window.__presses[i - 1], k);
+    // the request's part: its start to the reply's last byte (resource timing of this POST /api/select)
+    const network = await page.evaluate(() => {
+      const e = performance.getEntriesByType('resource').filter((r) => r.name.endsWith('/api/select')).pop();
+      return e ? e.responseEnd - e.startTime : NaN;
+    });
+    return { ms: p.shown - p.at, preprocess: p.preprocess, network, at };
+  };
+
   const box = await page.locator('#panels').boundingBox();
-  const handle = await page.evaluate(([x, y]) => window.editor.vertexAt(x, y), [box.x + box.width / 2, box.y + box.height / 2]);
-  if(handle === null) throw new Error('no vertex in the middle of the view');
-  const selection = await page.evaluate(([h, it]) => {
-    const s = window.editor.state;
-    const ring = (v, k) => {
-      const seen = new Set([v]); let front = [v];
-      for(let r = 0; r < k && seen.size < 0.1 * s.n; ++r) {
-        const next = [];
-        for(const u of front) for(const w of s.neighbours[u]) if(!seen.has(w)) { seen.add(w); next.push(w); }
-        front = next;
-      }
-      return seen;
-    };
-    for(const v of ring(h, 1000)) s.status[v] = 1;
-    for(const v of ring(h, 1)) s.status[v] = 2;
-    s.selectionDirty = true;
-    document.getElementById('iterations').value = String(it);
-    return { roi: s.status.filter((x) => x === 1).length, handles: s.status.filter((x) => x === 2).length };
-  }, [handle, iterations]);
+  const selection = await paintSelection(box.x + box.width / 2, box.y + box.height / 2);
+  const handle = selection.handle;
   console.log(`selection: ROI ${selection.roi} (${f1(100 * selection.roi / open.n)}%), handles ${selection.handles}, ${iterations} iterations`);
 
   // every drag request is timed from the pointer move to the moment the page shows its timing
@@ -108,12 +149,9 @@ try {
     }).observe(document.getElementById('timing'), { childList: true, characterData: true, subtree: true });
   });
   await page.click('#mode-drag');
-  const h = await page.evaluate((v) => window.editor.screenOf(v), handle);
-  await page.mouse.move(h.x, h.y);
-  await page.mouse.down();
   // the selection is sent (and factored) on the press
-  await page.waitForFunction(() => /preprocess/.test(document.getElementById('timing').textContent), null,
-                             { timeout: 120000, polling: 5 });
+  const first = await pressSelection(handle);
+  const h = first.at;
   for(let i = 1; i <= drags; ++i) {
     await page.mouse.move(h.x - 3 * i, h.y - 6 * i);
     await page.waitForFunction((k) => window.__drags.length >= k && window.__drags[k - 1].applied !== undefined,
@@ -132,6 +170,28 @@ try {
   console.log(`drag request to last byte of the reply (ms): ${network.map(f1).join(' ')} (the rest of the round trip is the page's: ` +
               `decoding, normals, and waiting for the main thread, e.g. a frame being drawn)`);
   console.log(`page timing line: ${await page.textContent('#timing')}`);
+
+  // later selections of the same session, at other places of the view, each pressed, dragged once, released
+  const later = [];
+  for(let i = 0; i < selections; ++i) {
+    const angle = 2 * Math.PI * i / Math.max(1, selections);
+    const sel = await paintSelection(box.x + box.width * (0.5 + 0.12 * Math.cos(angle)),
+                                     box.y + box.height * (0.5 + 0.2 * Math.sin(angle))).catch(() => null);
+    if(!sel) continue;
+    later.push({ ...(await pressSelection(sel.handle)), roi: sel.roi });
+    const n = await page.evaluate(() => window.__drags.length) + 1;
+    await page.mouse.move(later[later.length - 1].at.x - 5, later[later.length - 1].at.y - 10);
+    await page.waitForFunction((k) => window.__drags.length >= k && window.__drags[k - 1].applied !== undefined,
+                               n, { timeout: 120000, polling: 5 });
+    await page.mouse.up();
+  }
+  console.log(`selection: first press to preprocess shown ${f1(first.ms)} ms (request to last byte of the reply ` +
+              `${f1(first.network)} ms, server preprocess ${f1(first.preprocess)} ms)`);
+  if(later.length)
+    console.log(`later selections (${later.length}, ROI ${later.map((x) => x.roi).join('/')}): press to preprocess shown ` +
+                `${later.map((x) => f1(x.ms)).join(' ')} ms (median ${f1(median(later.map((x) => x.ms)))}), ` +
+                `request to last byte ${later.map((x) => f1(x.network)).join(' ')} ms, ` +
+                `server preprocess ${later.map((x) => f1(x.preprocess)).join(' ')} ms`);
 } finally {
   await context.close();
   fs.rmSync(userDataDir, { recursive: true, force: true });

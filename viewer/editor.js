@@ -2,7 +2,8 @@
 // handle, drag the handle (translate; Ctrl or Alt: rotate about the view axis) and watch the
 // deformation computed by the C++ server (one Mesh_deformer per session, factored once per
 // selection). Reuses the viewer's modules: PanelView (camera, orbit controls, picking) and
-// createFieldMesh / setPositions. The JSON API is described in the user manual. Every API call
+// createFieldMesh / movingRegion / setSomePositions (a selection costs what the selection costs:
+// only its vertices go back to rest). The JSON API is described in the user manual. Every API call
 // carries the server's per-run token (X-Editor-Token), taken from the address the tool printed
 // (#token=... or ?token=...). A drag reply is a binary frame holding only the moving vertices'
 // positions (float32, in the order of the selection reply's "moving"); at most one drag is in
@@ -10,7 +11,7 @@
 // positions on the page) next to the server's times.
 import * as THREE from 'three';
 import { PanelView } from './lib/panels.js';
-import { createFieldMesh, setPositions, movingRegion, setSomePositions } from './lib/mesh.js';
+import { createFieldMesh, movingRegion, setSomePositions, vertexFaces } from './lib/mesh.js';
 
 const $ = (id) => document.getElementById(id);
 const COLORS = [new THREE.Color(0xb8bcc4), new THREE.Color(0xe8c547), new THREE.Color(0xd7263d)];
@@ -109,6 +110,7 @@ async function openMesh(name) {
   ++state.epoch;
   state.session = reply.session;
   state.moving = new Int32Array(0);
+  state.region = null;
   state.n = reply.vertices.length / 3;
   state.rest = Float64Array.from(reply.vertices);
   state.faces = reply.faces;
@@ -121,12 +123,24 @@ async function openMesh(name) {
   for(const key of ['representation', 'weights', 'transform', 'start']) $(key).value = reply.policy[key];
   state.mesh = createFieldMesh({ positions: reply.vertices, indices: reply.faces, field: new Float32Array(state.n) },
                                { min: 0, max: 1 });
+  vertexFaces(state.mesh);   // built with the mesh, so that a selection's cost is the selection's
   view.setPanels([{ title: reply.mesh === 'default' ? 'default mesh' : reply.mesh, object: state.mesh }]);
   view.fitCamera();
   recolor();
   updateDownloads();
   $('timing').textContent = '';
   message('');
+}
+
+/**
+ * Puts the vertices of the last selection back at rest: they are the only ones a drag moves, so
+ * the cost is the selection's, not the mesh's (without a selection, nothing has moved).
+ */
+function restoreRest() {
+  if(!state.region) return;
+  const moving = state.region.moving, xyz = new Float64Array(3 * moving.length);
+  moving.forEach((v, i) => { xyz[3 * i] = state.rest[3 * v]; xyz[3 * i + 1] = state.rest[3 * v + 1]; xyz[3 * i + 2] = state.rest[3 * v + 2]; });
+  setSomePositions(state.mesh, state.region, xyz);
 }
 
 /** Puts the moving vertices at `xyz` (x, y, z per vertex of state.moving); the others stay. */
@@ -154,11 +168,11 @@ async function commitSelection() {
   if(handles.length === 0) { message('paint at least one handle vertex first (Handle mode)'); return false; }
   const reply = await api('/api/select', { session: state.session, roi, handles });
   ++state.epoch;
+  restoreRest();
   state.moving = Int32Array.from(reply.moving);
   state.region = movingRegion(state.mesh, state.moving);
   state.selectionDirty = false;
   state.transform.identity();
-  setPositions(state.mesh, state.rest);
   $('timing').textContent = `preprocess ${(1000 * reply.preprocess_seconds).toFixed(1)} ms, factorizations ${reply.factorizations}`;
   message('');
   return true;
@@ -233,7 +247,7 @@ function paint(event) {
     state.selectionDirty = true;
     if(!state.transform.equals(new THREE.Matrix4())) {   // a new selection starts from rest
       state.transform.identity();
-      setPositions(state.mesh, state.rest);
+      restoreRest();
     }
     recolor();
   }
@@ -325,9 +339,9 @@ $('view').addEventListener('click', () => view.resetView());
 $('reset').addEventListener('click', async () => {
   try {
     state.transform.identity();
-    if(state.selectionDirty) { setPositions(state.mesh, state.rest); view.requestRender(); return; }
+    if(state.selectionDirty) { restoreRest(); view.requestRender(); return; }
     await api('/api/reset', { session: state.session });
-    setPositions(state.mesh, state.rest);
+    restoreRest();
     view.requestRender();
     $('timing').textContent = '';
   } catch(e) { message(e.message); }
@@ -339,8 +353,9 @@ $('clear').addEventListener('click', async () => {
     state.transform.identity();
     await api('/api/reset', { session: state.session, selection: true });
     ++state.epoch;
+    restoreRest();
     state.moving = new Int32Array(0);
-    setPositions(state.mesh, state.rest);
+    state.region = null;
     recolor();
   } catch(e) { message(e.message); }
 });

@@ -296,6 +296,82 @@ TEST_F(Server_test, drags_move_targets_without_refactoring)
   EXPECT_NE(error("/api/drag", json{{"session", id}}.dump()).find("select a region of interest"), std::string::npos);
 }
 
+// A session keeps its deformer across selections and policy changes of one representation: a new
+// selection starts from the rest mesh (the previous selection's vertices back at rest, bitwise),
+// and every result equals that of a fresh session with the same selection and policies.
+TEST_F(Server_test, a_new_selection_keeps_the_deformer_and_starts_from_rest)
+{
+  auto positions = [](const json& reply) {
+    std::vector<double> p;
+    for(const json& x : reply["positions"]) p.push_back(x.get<double>());
+    return p;
+  };
+  auto expect_near = [](const std::vector<double>& a, const std::vector<double>& b, const char* what) {
+    ASSERT_EQ(a.size(), b.size()) << what;
+    double worst = 0;
+    for(std::size_t i = 0; i < a.size(); ++i) worst = (std::max)(worst, std::abs(a[i] - b[i]));
+    EXPECT_LT(worst, 1e-9) << what;
+  };
+  const json a_handles = {20 * 41 + 20}, b_handles = {8 * 41 + 30};
+  const json drag = {{"translation", {0.05, 0, 0.2}}, {"iterations", 3}};
+  // a fresh session per comparison: select, then the policies, then the drag
+  auto fresh = [&](const json& handles, int grow, const json& policy) {
+    const std::string f = post("/api/session", {{"mesh", "default"}})["session"];
+    post("/api/select", {{"session", f}, {"handles", handles}, {"grow", grow}});
+    json p = policy;
+    p["session"] = f;
+    post("/api/policy", p);
+    json d = drag;
+    d["session"] = f;
+    return positions(post("/api/drag", d));
+  };
+  const std::string id = post("/api/session", {{"mesh", "default"}})["session"];
+  const std::string at_rest = download(id, "off");
+  post("/api/select", {{"session", id}, {"handles", a_handles}, {"grow", 6}});
+  json d = drag;
+  d["session"] = id;
+  EXPECT_LT(post("/api/drag", d)["handle_error"].get<double>(), 1e-9);
+  EXPECT_NE(download(id, "off"), at_rest);
+
+  // another selection, partly overlapping the first: the whole mesh at rest again, one factorisation
+  const json sel = post("/api/select", {{"session", id}, {"handles", b_handles}, {"grow", 9}});
+  EXPECT_EQ(sel["factorizations"], 1);
+  EXPECT_EQ(server->number_of_factorizations(id), 1u);
+  EXPECT_EQ(server->deformer_counts(id), std::make_pair(std::size_t(1), std::size_t(2)));   // one deformer, two selections
+  EXPECT_EQ(download(id, "off"), at_rest);
+  const json b = post("/api/drag", d);
+  EXPECT_EQ(b["factorizations"], 1);
+  expect_near(positions(b), fresh(b_handles, 9, json::object()), "second selection");
+
+  // a transform or start change keeps the factorisation; a weight change refactors once
+  const json t = post("/api/policy", {{"session", id}, {"transform", "rotation"}, {"start", "rotation"}});
+  EXPECT_EQ(t["factorizations"], 1);
+  EXPECT_EQ(server->number_of_factorizations(id), 1u);
+  EXPECT_EQ(server->deformer_counts(id), std::make_pair(std::size_t(1), std::size_t(2)));   // no new factorisation
+  expect_near(positions(t), fresh(b_handles, 9, {{"transform", "rotation"}, {"start", "rotation"}}), "transform change");
+  const json w = post("/api/policy", {{"session", id}, {"weights", "uniform"}});
+  EXPECT_EQ(w["factorizations"], 1);
+  EXPECT_EQ(server->deformer_counts(id), std::make_pair(std::size_t(1), std::size_t(3)));
+  expect_near(positions(w), fresh(b_handles, 9, {{"transform", "rotation"}, {"start", "rotation"}, {"weights", "uniform"}}),
+              "weight change");
+  // the other representation (a new deformer) and back, then the first selection again
+  const json v = post("/api/policy", {{"session", id}, {"representation", "vertex"}});
+  EXPECT_EQ(v["factorizations"], 1);
+  const json e = post("/api/policy", {{"session", id}, {"representation", "edge"}});
+  EXPECT_EQ(server->deformer_counts(id).first, 3u);
+  expect_near(positions(e), positions(w), "representation and back");
+  post("/api/select", {{"session", id}, {"handles", a_handles}, {"grow", 6}});
+  EXPECT_EQ(download(id, "off"), at_rest);
+  expect_near(positions(post("/api/drag", d)),
+              fresh(a_handles, 6, {{"transform", "rotation"}, {"start", "rotation"}, {"weights", "uniform"}}),
+              "first selection again");
+  // the selection cleared by a reset: the mesh at rest, drags refused until the next selection
+  post("/api/reset", {{"session", id}, {"selection", true}});
+  EXPECT_EQ(download(id, "off"), at_rest);
+  EXPECT_EQ(server->number_of_factorizations(id), 0u);
+  EXPECT_NE(error("/api/drag", json{{"session", id}}.dump()).find("select a region of interest"), std::string::npos);
+}
+
 // The policy names are those of the tools' one catalogue (policy_names.h, also the command line's
 // and the harness's): the server takes every name and alias of it, and nothing else.
 TEST_F(Server_test, every_policy_name_of_the_catalogue_is_accepted)

@@ -49,28 +49,44 @@ export function setPositions(mesh, positions) {
 }
 
 /**
- * What `setSomePositions` updates when only `vertices` of a mesh made by createFieldMesh move:
- * the vertices whose normals change (those of the faces around the moving ones) and the faces
- * their normals sum over. Computed once per set of moving vertices.
+ * The faces around each vertex of a mesh made by createFieldMesh, as compressed rows (the faces of
+ * vertex v are faces[start[v]] .. faces[start[v + 1] - 1], in increasing order); built once per
+ * mesh and kept in mesh.userData (its triangles never change).
  */
-export function movingRegion(mesh, vertices) {
+export function vertexFaces(mesh) {
   const index = mesh.geometry.index.array, n = mesh.geometry.getAttribute('position').count;
-  const start = new Uint32Array(n + 1);   // vertex -> its faces, compressed rows
+  const cached = mesh.userData.vertexFaces;
+  if(cached && cached.index === index && cached.start.length === n + 1) return cached;
+  const start = new Uint32Array(n + 1);
   for(let i = 0; i < index.length; ++i) ++start[index[i] + 1];
   for(let v = 0; v < n; ++v) start[v + 1] += start[v];
   const faces = new Uint32Array(index.length), fill = start.slice(0, n);
   for(let i = 0; i < index.length; ++i) faces[fill[index[i]]++] = (i / 3) | 0;
-  const affected = new Uint8Array(n);
+  mesh.userData.vertexFaces = { index, start, faces };
+  return mesh.userData.vertexFaces;
+}
+
+/**
+ * What `setSomePositions` updates when only `vertices` of a mesh made by createFieldMesh move:
+ * the vertices whose normals change (those of the faces around the moving ones) and the faces
+ * their normals sum over, in increasing order (that of computeVertexNormals). Computed once per set
+ * of moving vertices; its cost is the region's (the vertex-to-faces table is built once per mesh).
+ */
+export function movingRegion(mesh, vertices) {
+  const index = mesh.geometry.index.array, n = mesh.geometry.getAttribute('position').count;
+  const { start, faces } = vertexFaces(mesh);
+  const affected = new Uint8Array(n), regionVertices = [];
   for(const v of vertices)
     for(let k = start[v]; k < start[v + 1]; ++k)
-      for(let c = 0; c < 3; ++c) affected[index[3 * faces[k] + c]] = 1;
-  const regionVertices = [], seen = new Uint8Array(index.length / 3), regionFaces = [];
-  for(let v = 0; v < n; ++v) {
-    if(!affected[v]) continue;
-    regionVertices.push(v);
-    for(let k = start[v]; k < start[v + 1]; ++k) if(!seen[faces[k]]) { seen[faces[k]] = 1; regionFaces.push(faces[k]); }
-  }
-  return { moving: Int32Array.from(vertices), vertices: Uint32Array.from(regionVertices), faces: Uint32Array.from(regionFaces), affected };
+      for(let c = 0; c < 3; ++c) {
+        const w = index[3 * faces[k] + c];
+        if(!affected[w]) { affected[w] = 1; regionVertices.push(w); }
+      }
+  const seen = new Set(), regionFaces = [];
+  for(const v of regionVertices)
+    for(let k = start[v]; k < start[v + 1]; ++k) if(!seen.has(faces[k])) { seen.add(faces[k]); regionFaces.push(faces[k]); }
+  return { moving: Int32Array.from(vertices), vertices: Uint32Array.from(regionVertices).sort(),
+           faces: Uint32Array.from(regionFaces).sort(), affected };
 }
 
 /**

@@ -11,7 +11,7 @@ import { spawnSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
 import { parsePLY, writePLY, PlyError } from '../lib/ply.js';
 import { sampleColormap, sharedRange, fieldExtent, niceTicks, formatValue, fieldColors, COLORMAPS } from '../lib/colormap.js';
-import { createFieldMesh, setFieldColors, setPositions, defaultView, movingRegion, setSomePositions } from '../lib/mesh.js';
+import { createFieldMesh, setFieldColors, setPositions, defaultView, movingRegion, setSomePositions, vertexFaces } from '../lib/mesh.js';
 import { startServer, resolveInside, listTasks } from '../serve.mjs';
 import { writeSampleTask, edgeLengthDistortion, bumpyPlane } from '../tools/make_sample.mjs';
 import * as THREE from 'three';
@@ -134,6 +134,30 @@ test('meshes: moving some vertices updates their normals as recomputing all of t
   assert.ok(a.geometry.getAttribute('normal').array.some((x, i) => Math.abs(x - createFieldMesh({ ...plane, field: new Float32Array(81) },
     { min: 0, max: 1 }).geometry.getAttribute('normal').array[i]) > 1e-3), 'the normals did change');
   assert.throws(() => setSomePositions(a, region, [0, 0, 0]), /1 positions for 4 moving vertices/);
+});
+
+test('meshes: the moving region is that of a scan of every face, from a table built once per mesh', () => {
+  const plane = bumpyPlane(9);
+  const a = createFieldMesh({ ...plane, field: new Float32Array(81) }, { min: 0, max: 1 });
+  const index = Array.from(a.geometry.index.array), faceCount = index.length / 3;
+  for(const moving of [[40], [40, 41, 31, 49], [0, 80, 8], [72, 73, 74, 75]]) {
+    // brute force: the vertices of the faces around a moving vertex, and the faces around those
+    const near = new Set();
+    for(let f = 0; f < faceCount; ++f)
+      if(moving.some((v) => index.slice(3 * f, 3 * f + 3).includes(v))) index.slice(3 * f, 3 * f + 3).forEach((w) => near.add(w));
+    const faces = [];
+    for(let f = 0; f < faceCount; ++f) if(index.slice(3 * f, 3 * f + 3).some((w) => near.has(w))) faces.push(f);
+    const region = movingRegion(a, moving);
+    assert.deepEqual(Array.from(region.vertices), [...near].sort((x, y) => x - y), `vertices around ${moving}`);
+    assert.deepEqual(Array.from(region.faces), faces, `faces around ${moving}`);
+    assert.deepEqual(Array.from(region.moving), moving);
+    for(let v = 0; v < 81; ++v) assert.equal(region.affected[v], near.has(v) ? 1 : 0);
+  }
+  assert.equal(vertexFaces(a), vertexFaces(a), 'the table is built once per mesh');
+  const { start, faces } = vertexFaces(a);
+  for(let v = 0; v < 81; ++v)
+    for(let k = start[v]; k < start[v + 1]; ++k) assert.ok(index.slice(3 * faces[k], 3 * faces[k] + 3).includes(v));
+  assert.equal(start[81], index.length);
 });
 
 test('sample results: the distortion is 0 at rest and grows with the lift', () => {

@@ -53,11 +53,14 @@ public:
   virtual ~Deformer_interface() = default;
   virtual void insert_roi_vertex(vertex_descriptor v) = 0;
   virtual void insert_control_vertex(vertex_descriptor v) = 0;
+  virtual void clear_roi_vertices() = 0;
   virtual bool preprocess() = 0;
   virtual void set_target_position(vertex_descriptor v, const Point_3& p) = 0;
   virtual LD::Deformation_result deform(unsigned int iterations, double tolerance) = 0;
   virtual void reset() = 0;
   virtual void set_start(LD::Deformation_start start) = 0;
+  virtual void set_weight_policy(const LD::Any_weights& weights) = 0;
+  virtual void set_transform_policy(const LD::Any_transform& transform) = 0;
   virtual const LD::Deformation_result& last_result() const = 0;
   virtual std::size_t number_of_factorizations() const = 0;
 };
@@ -70,6 +73,7 @@ public:
     : m_deformer(mesh, weights, transform) {}
   void insert_roi_vertex(vertex_descriptor v) override { m_deformer.insert_roi_vertex(v); }
   void insert_control_vertex(vertex_descriptor v) override { m_deformer.insert_control_vertex(v); }
+  void clear_roi_vertices() override { m_deformer.clear_roi_vertices(); }
   bool preprocess() override { return m_deformer.preprocess(); }
   void set_target_position(vertex_descriptor v, const Point_3& p) override { m_deformer.set_target_position(v, p); }
   LD::Deformation_result deform(unsigned int iterations, double tolerance) override
@@ -78,6 +82,8 @@ public:
   }
   void reset() override { m_deformer.reset(); }
   void set_start(LD::Deformation_start start) override { m_deformer.set_start(start); }
+  void set_weight_policy(const LD::Any_weights& weights) override { m_deformer.set_weight_policy(weights); }
+  void set_transform_policy(const LD::Any_transform& transform) override { m_deformer.set_transform_policy(transform); }
   const LD::Deformation_result& last_result() const override { return m_deformer.last_result(); }
   std::size_t number_of_factorizations() const override { return m_deformer.number_of_factorizations(); }
 

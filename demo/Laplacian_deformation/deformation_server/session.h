@@ -37,11 +37,25 @@ struct Session
   std::string stem;                               // the downloads' file names
   Mesh rest, mesh;
   Policy policy;
-  std::unique_ptr<Deformer_interface> deformer;   // null until a selection is preprocessed
+  // built on the session's rest mesh at the first selection, then kept for every later selection
+  // and policy of the same representation: a new selection costs what the selection costs (no
+  // copy of the mesh, no new deformer with its per-vertex arrays; the library reuses its operator
+  // where it covers the new region of interest)
+  std::unique_ptr<Deformer_interface> deformer;
+  Policy deformer_policy;                         // the policies `deformer` holds
+  bool ready = false;                             // `deformer` holds the selection, preprocessed
+  std::size_t factorizations_before = 0;          // the deformer's factorisations before the selection's
+  std::size_t deformers_built = 0;                // in the session's life (for tests)
   std::vector<vertex_descriptor> roi, handles;    // roi excludes the handles
   std::vector<vertex_descriptor> moving;          // roi then handles: the order of the drag replies' positions
   std::optional<Drag> drag;
 };
+
+/// the factorisations of the session's selection since it was made or its policies changed (0 without one)
+inline std::size_t factorizations(const Session& s)
+{
+  return s.ready ? s.deformer->number_of_factorizations() - s.factorizations_before : 0;
+}
 
 /// The file names of the meshes a page may open: "default", then those of `data_dir`.
 inline json mesh_names(const std::string& data_dir)
@@ -128,28 +142,73 @@ inline void validate_policy(const Policy& p)
     throw Request_error{400, "start must be \"identity\" or \"rotation\", got \"" + p.start + "\""};
 }
 
-/// builds the session's deformer on its rest mesh and preprocesses its selection (if any)
+/// preprocesses the session's selection (if it has handles) on its deformer, from the rest mesh:
+/// the vertices the previous selection moved go back to rest (the deformer writes no other), the
+/// deformer is kept if its representation is the policy's (its weights, transform and start set to
+/// the policy's), else a new one is built on the rest mesh. A failed preprocess clears the selection
+/// and leaves the mesh at rest.
 inline void rebuild(Session& s)
 {
-  s.deformer.reset();
-  s.mesh = s.rest;
+  s.ready = false;
+  if(s.deformer)
+  {
+    s.deformer->reset();            // its ROI at rest, its targets too
+    s.deformer->clear_roi_vertices();
+  }
+  for(vertex_descriptor v : s.moving)
+    s.mesh.point(v) = s.rest.point(v);
   s.moving = s.roi;
   s.moving.insert(s.moving.end(), s.handles.begin(), s.handles.end());
   if(s.handles.empty())
     return;
-  auto d = make_deformer(s.mesh, s.policy);
-  for(vertex_descriptor v : s.roi) d->insert_roi_vertex(v);
-  for(vertex_descriptor v : s.handles) d->insert_control_vertex(v);
-  if(!d->preprocess())
+  if(!s.deformer || s.deformer_policy.representation != s.policy.representation)
   {
-    const std::string message = d->last_result().message;
+    s.deformer.reset();
+    s.deformer = make_deformer(s.mesh, s.policy);
+    ++s.deformers_built;
+  }
+  else
+  {
+    if(s.deformer_policy.weights != s.policy.weights)
+      s.deformer->set_weight_policy(policy_names::weight_policy(s.policy.weights));
+    if(s.deformer_policy.transform != s.policy.transform)
+      s.deformer->set_transform_policy(policy_names::transform_policy(s.policy.transform));
+    s.deformer->set_start(s.policy.start == "rotation" ? LD::ROTATION_START : LD::IDENTITY_START);
+  }
+  s.deformer_policy = s.policy;
+  Deformer_interface& d = *s.deformer;
+  for(vertex_descriptor v : s.roi) d.insert_roi_vertex(v);
+  for(vertex_descriptor v : s.handles) d.insert_control_vertex(v);
+  s.factorizations_before = d.number_of_factorizations();
+  if(!d.preprocess())
+  {
+    const std::string message = d.last_result().message;
+    d.clear_roi_vertices();
     s.roi.clear();
     s.handles.clear();
     s.moving.clear();
     s.drag.reset();
     throw Request_error{400, "cannot preprocess this selection: " + message};
   }
-  s.deformer = std::move(d);
+  s.ready = true;
+}
+
+/// the session's policies become `p`: a change of the transform or the start alone keeps the
+/// factorisation (the deformer restarts from the rest pose with them), any other change rebuilds
+/// the selection (rebuild())
+inline void change_policy(Session& s, const Policy& p)
+{
+  s.policy = p;
+  if(s.ready && p.representation == s.deformer_policy.representation && p.weights == s.deformer_policy.weights)
+  {
+    s.deformer->reset();
+    if(p.transform != s.deformer_policy.transform)
+      s.deformer->set_transform_policy(policy_names::transform_policy(p.transform));
+    s.deformer->set_start(p.start == "rotation" ? LD::ROTATION_START : LD::IDENTITY_START);
+    s.deformer_policy = p;
+    return;
+  }
+  rebuild(s);
 }
 
 /// The drag described by a request body (`center` left at 0: the caller sets the default).
@@ -211,7 +270,7 @@ inline json apply_drag(Session& s, const Drag& d, std::chrono::steady_clock::tim
   return json{{"seconds", r.seconds}, {"local_step_seconds", r.local_step_seconds}, {"warnings", warnings},
               {"right_hand_side_seconds", r.right_hand_side_seconds}, {"solve_seconds", r.solve_seconds},
               {"iterations", r.iterations}, {"energy", r.energy}, {"handler_seconds", seconds},
-              {"factorizations", s.deformer->number_of_factorizations()}, {"handle_error", error}};
+              {"factorizations", factorizations(s)}, {"handle_error", error}};
 }
 
 /// the session's mesh (off, ply), selection (sel) or handle transformation (def) as text

@@ -3,7 +3,8 @@
 // Author(s): Laplacian_deformation team
 //
 // laplacian_deform --serve, the API without sockets: browser sessions, each owning one
-// Mesh_deformer (a selection is factored once, a drag only moves the targets and re-solves).
+// Mesh_deformer, kept across its selections (a selection is factored once, a drag only moves the
+// targets and re-solves, a change of transform or start re-solves without refactoring).
 // Each session has its own lock: a long drag of one session never blocks another session, and the
 // session table is locked only to find, add or remove a session. A drag carries a sequence number;
 // a drag that waited behind the session's lock while a newer one arrived is dropped unsolved
@@ -80,13 +81,21 @@ public:
     catch(const std::exception& e) { return error_reply(500, std::string("internal error: ") + e.what()); }
   }
 
-  /// the number of factorisations of a session's deformer (0 without one); for tests.
+  /// the number of factorisations of a session's selection (0 without one); for tests.
   std::size_t number_of_factorizations(const std::string& id)
   {
     std::shared_ptr<Session> s = find(id);
     if(!s) return 0;
     std::lock_guard<std::mutex> lock(s->mutex);
-    return s->deformer ? s->deformer->number_of_factorizations() : 0;
+    return Laplacian_deformation_server::factorizations(*s);
+  }
+  /// the deformers a session has built, and the factorisations of its deformer in all; for tests.
+  std::pair<std::size_t, std::size_t> deformer_counts(const std::string& id)
+  {
+    std::shared_ptr<Session> s = find(id);
+    if(!s) return {0, 0};
+    std::lock_guard<std::mutex> lock(s->mutex);
+    return {s->deformers_built, s->deformer ? s->deformer->number_of_factorizations() : 0};
   }
   /// the number of live sessions.
   std::size_t number_of_sessions()
@@ -233,7 +242,7 @@ private:
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     return json_reply(json{{"roi", roi_ids}, {"handles", handle_ids}, {"moving", moving},
                            {"preprocess_seconds", s.deformer->last_result().seconds}, {"handler_seconds", seconds},
-                           {"factorizations", s.deformer->number_of_factorizations()}});
+                           {"factorizations", factorizations(s)}});
   }
 
   // the reply of a deformation: JSON with "positions" of the moving vertices, or the binary frame
@@ -274,7 +283,7 @@ private:
       return json_reply(json{{"error", "superseded: drag " + std::to_string(seq) + " of this session was overtaken by drag " +
                                            std::to_string(std::max(s.newest_drag.load(), s.applied_drag)) + " (not solved)"},
                              {"superseded", true}, {"seq", seq}}, 409);
-    if(!s.deformer)
+    if(!s.ready)
       throw Request_error{400, "select a region of interest and handles first (POST /api/select)"};
     if(!body.contains("rotation") || !body["rotation"].contains("center"))
       d.center = handle_centroid(s);
@@ -297,12 +306,11 @@ private:
     if(body.contains("transform")) p.transform = internal::string_member(body, "transform");
     if(body.contains("start")) p.start = internal::string_member(body, "start");
     validate_policy(p);
-    s.policy = p;
     const std::optional<Drag> d = s.drag;
-    rebuild(s);
-    json header = s.deformer && d ? apply_drag(s, *d, t0) : json::object();   // the same drag with the new policies
+    change_policy(s, p);
+    json header = s.ready && d ? apply_drag(s, *d, t0) : json::object();   // the same drag with the new policies
     header["policy"] = policy_json(s.policy);
-    header["factorizations"] = s.deformer ? s.deformer->number_of_factorizations() : 0;
+    header["factorizations"] = factorizations(s);
     return deformation_reply(s, header, binary);
   }
 
@@ -317,11 +325,11 @@ private:
       s.handles.clear();
     }
     s.drag.reset();
-    if(s.deformer && !s.handles.empty())
+    if(s.ready && !s.handles.empty())
       s.deformer->reset();
     else
       rebuild(s);
-    return deformation_reply(s, json{{"factorizations", s.deformer ? s.deformer->number_of_factorizations() : 0}}, false);
+    return deformation_reply(s, json{{"factorizations", factorizations(s)}}, false);
   }
 
   Reply download(const std::map<std::string, std::string>& params)
