@@ -11,7 +11,7 @@
 // positions on the page) next to the server's times.
 import * as THREE from 'three';
 import { PanelView } from './lib/panels.js';
-import { createFieldMesh, movingRegion, setSomePositions, vertexFaces } from './lib/mesh.js';
+import { createFieldMesh, movingRegion, setSomePositions, vertexFaces, vertexNeighbours } from './lib/mesh.js';
 
 const $ = (id) => document.getElementById(id);
 const COLORS = [new THREE.Color(0xb8bcc4), new THREE.Color(0xe8c547), new THREE.Color(0xd7263d)];
@@ -56,19 +56,28 @@ async function apiFrame(path, body) {
   return { header, xyz: new Float32Array(buffer, 4 + n), bytes: buffer.byteLength };
 }
 
+/**
+ * POST /api/session with "binary": its reply is the mesh frame (see the manual): the header, then
+ * the rest positions (float64) and the triangles (uint32) as typed arrays over the reply's bytes.
+ */
+async function apiMesh(body) {
+  const response = await fetch('/api/session', { method: 'POST', headers: HEADERS, body: JSON.stringify({ ...body, binary: true }) });
+  if(!response.ok) {
+    const reply = await response.json();
+    throw Object.assign(new Error(reply.error || `/api/session: HTTP ${response.status}`), { status: response.status, reply });
+  }
+  const buffer = await response.arrayBuffer();
+  const n = new DataView(buffer).getUint32(0, true);
+  const header = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 4, n)));
+  const nv = header.vertex_count, nf = header.face_count, at = 4 + n;
+  if(buffer.byteLength !== at + 24 * nv + 12 * nf) throw new Error(`/api/session: a mesh frame of ${buffer.byteLength} bytes for ${nv} vertices and ${nf} faces`);
+  return { ...header, vertices: new Float64Array(buffer, at, 3 * nv), faces: new Uint32Array(buffer, at + 24 * nv, 3 * nf) };
+}
+
 const view = new PanelView($('panels'), { background: '#ffffff', captionPosition: 'bottom' });
 // Left button edits; right button turns (shift: pans), middle and wheel zoom.
 view.controls.mouseButtons = { LEFT: null, MIDDLE: THREE.MOUSE.DOLLY, RIGHT: THREE.MOUSE.ROTATE };
 
-function neighbourLists(n, faces) {
-  const sets = Array.from({ length: n }, () => new Set());
-  for(let f = 0; f < faces.length; f += 3)
-    for(let k = 0; k < 3; ++k) {
-      const a = faces[f + k], b = faces[f + (k + 1) % 3];
-      sets[a].add(b); sets[b].add(a);
-    }
-  return sets.map((s) => Int32Array.from(s));
-}
 
 /** The vertices within k rings of v. */
 function kRing(v, k) {
@@ -105,16 +114,16 @@ function closeSession(keepalive) {
 }
 
 async function openMesh(name) {
-  const reply = await api('/api/session', { mesh: name });
+  const reply = await apiMesh({ mesh: name });
   closeSession(false);   // the previous mesh's session
   ++state.epoch;
   state.session = reply.session;
   state.moving = new Int32Array(0);
   state.region = null;
   state.n = reply.vertices.length / 3;
-  state.rest = Float64Array.from(reply.vertices);
+  state.rest = reply.vertices;
   state.faces = reply.faces;
-  state.neighbours = neighbourLists(state.n, reply.faces);
+  state.neighbours = vertexNeighbours(state.n, reply.faces);
   state.status = new Uint8Array(state.n);
   state.selectionDirty = true;
   state.transform.identity();

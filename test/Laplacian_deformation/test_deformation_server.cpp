@@ -171,6 +171,63 @@ TEST_F(Server_test, meshes_by_name_only_from_the_data_folder)
   EXPECT_NE(error("/api/session", R"({"mesh":3})").find("mesh must be a string"), std::string::npos);
 }
 
+TEST_F(Server_test, a_mesh_is_read_once_per_file_version_and_sent_as_a_binary_frame)
+{
+  const json t = post("/api/session", {{"mesh", "tetra.off"}});
+  EXPECT_EQ(server->mesh_cache_hits(), 0u);
+  // the same file again, as the binary frame: the mesh read before, the same numbers
+  Reply r = server->post("/api/session", R"({"mesh":"tetra.off","binary":true})");
+  ASSERT_EQ(r.status, 200) << r.body;
+  EXPECT_EQ(r.content_type, binary_type());
+  EXPECT_EQ(server->mesh_cache_hits(), 1u);
+  json header;
+  std::vector<double> xyz;
+  std::vector<std::uint32_t> faces;
+  ASSERT_TRUE(decode_mesh_frame(r.body, header, xyz, faces));
+  EXPECT_EQ(header["vertex_count"], 4u);
+  EXPECT_EQ(header["face_count"], 4u);
+  EXPECT_EQ(header["mesh"], "tetra.off");
+  EXPECT_TRUE(header["session"].is_string());
+  EXPECT_NE(header["session"], t["session"]);
+  EXPECT_EQ(header["policy"], t["policy"]);
+  EXPECT_FALSE(header.contains("vertices"));
+  ASSERT_EQ(xyz.size(), t["vertices"].size());
+  for(std::size_t i = 0; i < xyz.size(); ++i)
+    EXPECT_EQ(xyz[i], t["vertices"][i].get<double>()) << i;
+  ASSERT_EQ(faces.size(), t["faces"].size());
+  for(std::size_t i = 0; i < faces.size(); ++i)
+    EXPECT_EQ(faces[i], t["faces"][i].get<std::uint32_t>()) << i;
+  // a truncated or padded frame is not one
+  std::string bad = r.body;
+  bad.pop_back();
+  EXPECT_FALSE(decode_mesh_frame(bad, header, xyz, faces));
+  EXPECT_FALSE(decode_mesh_frame(r.body + "    ", header, xyz, faces));
+
+  // the file rewritten with the same size: read again (its time changed), not the kept mesh
+  const fs::path file = root / "data" / "tetra.off";
+  const fs::file_time_type before = fs::last_write_time(file);
+  std::ofstream(file) << "OFF\n4 4 0\n0 0 0\n2 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+  fs::last_write_time(file, before + std::chrono::seconds(2));
+  const json u = post("/api/session", {{"mesh", "tetra.off"}});
+  EXPECT_EQ(server->mesh_cache_hits(), 1u);
+  EXPECT_EQ(u["vertices"][3].get<double>(), 2.);
+  EXPECT_EQ(post("/api/session", {{"mesh", "tetra.off"}})["vertices"][3].get<double>(), 2.);
+  EXPECT_EQ(server->mesh_cache_hits(), 2u);
+  // a file that has become unreadable is refused, even though an older version was kept
+  std::ofstream(file) << "OFF\n4 4 0\n0 0 0\n";
+  EXPECT_NE(error("/api/session", R"({"mesh":"tetra.off","binary":true})").find("cannot read a mesh from tetra.off"),
+            std::string::npos);
+  EXPECT_NE(error("/api/session", R"({"mesh":"tetra.off","binary":1})").find("binary must be true or false"), std::string::npos);
+
+  // the generated default mesh (no cactus in this data folder) as a frame too
+  r = server->post("/api/session", R"({"binary":true})");
+  ASSERT_EQ(r.status, 200);
+  ASSERT_TRUE(decode_mesh_frame(r.body, header, xyz, faces));
+  EXPECT_EQ(xyz.size(), 3u * 41 * 41);
+  EXPECT_EQ(faces.size(), 3u * 2 * 40 * 40);
+  EXPECT_EQ(*std::max_element(faces.begin(), faces.end()), 41u * 41 - 1);
+}
+
 TEST_F(Server_test, sessions_are_bounded_without_evicting_a_live_one)
 {
   options.max_sessions = 3;

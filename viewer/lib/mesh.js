@@ -49,6 +49,32 @@ export function setPositions(mesh, positions) {
 }
 
 /**
+ * The neighbours of every vertex of a triangle list (each once, in increasing order), as views into
+ * one array: counted, filled and
+ * deduplicated in place, without a Set per vertex (about 0.8 s on a 416k-vertex mesh).
+ */
+export function vertexNeighbours(n, faces) {
+  const start = new Uint32Array(n + 1);
+  for(let i = 0; i < faces.length; ++i) start[faces[i] + 1] += 2;
+  for(let v = 0; v < n; ++v) start[v + 1] += start[v];
+  const all = new Int32Array(start[n]), fill = start.slice(0, n);
+  for(let f = 0; f < faces.length; f += 3)
+    for(let k = 0; k < 3; ++k) {
+      const a = faces[f + k], b = faces[f + (k + 1) % 3];
+      all[fill[a]++] = b; all[fill[b]++] = a;
+    }
+  const lists = new Array(n);
+  for(let v = 0; v < n; ++v) {
+    const row = all.subarray(start[v], start[v + 1]);
+    row.sort();
+    let m = 0;
+    for(let i = 0; i < row.length; ++i) if(i === 0 || row[i] !== row[i - 1]) row[m++] = row[i];
+    lists[v] = row.subarray(0, m);
+  }
+  return lists;
+}
+
+/**
  * The faces around each vertex of a mesh made by createFieldMesh, as compressed rows (the faces of
  * vertex v are faces[start[v]] .. faces[start[v + 1] - 1], in increasing order); built once per
  * mesh and kept in mesh.userData (its triangles never change).
@@ -114,7 +140,12 @@ export function setSomePositions(mesh, region, xyz) {
   }
   position.needsUpdate = true;
   normal.needsUpdate = true;
-  geometry.computeBoundingSphere();
+  // the bounding sphere (culling, picking) grows to hold the moved vertices: O(moving), where
+  // recomputing it reads every vertex (5 to 10 ms per drag on a 416k-vertex mesh); it never shrinks,
+  // which only makes it looser
+  if(!geometry.boundingSphere) { geometry.computeBoundingSphere(); return; }
+  const point = new THREE.Vector3();
+  for(const v of region.moving) geometry.boundingSphere.expandByPoint(point.set(p[3 * v], p[3 * v + 1], p[3 * v + 2]));
 }
 
 /** The bounding box of several meshes (world coordinates). */

@@ -11,7 +11,7 @@ import { spawnSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
 import { parsePLY, writePLY, PlyError } from '../lib/ply.js';
 import { sampleColormap, sharedRange, fieldExtent, niceTicks, formatValue, fieldColors, COLORMAPS } from '../lib/colormap.js';
-import { createFieldMesh, setFieldColors, setPositions, defaultView, movingRegion, setSomePositions, vertexFaces } from '../lib/mesh.js';
+import { createFieldMesh, setFieldColors, setPositions, defaultView, movingRegion, setSomePositions, vertexFaces, vertexNeighbours } from '../lib/mesh.js';
 import { startServer, resolveInside, listTasks } from '../serve.mjs';
 import { writeSampleTask, edgeLengthDistortion, bumpyPlane } from '../tools/make_sample.mjs';
 import * as THREE from 'three';
@@ -134,6 +134,15 @@ test('meshes: moving some vertices updates their normals as recomputing all of t
   assert.ok(a.geometry.getAttribute('normal').array.some((x, i) => Math.abs(x - createFieldMesh({ ...plane, field: new Float32Array(81) },
     { min: 0, max: 1 }).geometry.getAttribute('normal').array[i]) > 1e-3), 'the normals did change');
   assert.throws(() => setSomePositions(a, region, [0, 0, 0]), /1 positions for 4 moving vertices/);
+  // the bounding sphere holds every vertex after moves far out, and back
+  const far = moving.flatMap((v, i) => [plane.positions[3 * v] + 5 * i, plane.positions[3 * v + 1] - 3, plane.positions[3 * v + 2] + 7]);
+  for(const xyzs of [far, xyz]) {
+    setSomePositions(a, region, xyzs);
+    const sphere = a.geometry.boundingSphere, p = a.geometry.getAttribute('position').array;
+    for(let v = 0; v < 81; ++v)
+      assert.ok(sphere.center.distanceTo(new THREE.Vector3(p[3 * v], p[3 * v + 1], p[3 * v + 2])) <= sphere.radius * (1 + 1e-6),
+                `vertex ${v} outside the bounding sphere`);
+  }
 });
 
 test('meshes: the moving region is that of a scan of every face, from a table built once per mesh', () => {
@@ -158,6 +167,21 @@ test('meshes: the moving region is that of a scan of every face, from a table bu
   for(let v = 0; v < 81; ++v)
     for(let k = start[v]; k < start[v + 1]; ++k) assert.ok(index.slice(3 * faces[k], 3 * faces[k] + 3).includes(v));
   assert.equal(start[81], index.length);
+});
+
+test('meshes: the neighbours of every vertex, each once and sorted, as sets of the edges would give them', () => {
+  const plane = bumpyPlane(9);
+  const tetra = [0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2];
+  for(const [n, faces] of [[81, plane.indices], [81, Uint32Array.from(plane.indices)], [4, tetra], [6, [...tetra, 4, 1, 2]]]) {
+    const sets = Array.from({ length: n }, () => new Set());
+    for(let f = 0; f < faces.length; f += 3)
+      for(let k = 0; k < 3; ++k) { const a = faces[f + k], b = faces[f + (k + 1) % 3]; sets[a].add(b); sets[b].add(a); }
+    const lists = vertexNeighbours(n, faces);
+    assert.equal(lists.length, n);
+    for(let v = 0; v < n; ++v)
+      assert.deepEqual(Array.from(lists[v]), [...sets[v]].sort((x, y) => x - y), `neighbours of ${v}`);
+  }
+  assert.equal(vertexNeighbours(6, [0, 1, 2])[5].length, 0, 'an isolated vertex has none');
 });
 
 test('sample results: the distortion is 0 at rest and grows with the lift', () => {

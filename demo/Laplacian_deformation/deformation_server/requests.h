@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -266,6 +267,84 @@ inline std::string encode_frame(const json& header, const Mesh& m, const std::ve
     }
   }
   return out;
+}
+
+/// The binary frame of a session reply (`"binary": true`): a little-endian uint32 L, L bytes of a
+/// JSON object (`header`, padded with spaces so that the coordinates start at a multiple of 8),
+/// then x, y, z as little-endian float64 for every vertex of `m` in index order, then the three
+/// vertex ids of every face as little-endian uint32. A page views them as typed arrays, without
+/// parsing millions of numbers (a 416k-vertex mesh is 39 MB of JSON, 17 MB in this frame).
+/// `m` must have no garbage and triangle faces only.
+inline std::string encode_mesh_frame(const json& header, const Mesh& m)
+{
+  if(!CGAL::is_triangle_mesh(m) || m.has_garbage())
+    throw std::logic_error("encode_mesh_frame: the mesh has garbage or a face that is not a triangle");
+  std::string text = dump(header);
+  while((4 + text.size()) % 8 != 0)
+    text.push_back(' ');
+  std::string out;
+  internal::append_le32(out, std::uint32_t(text.size()));
+  out += text;
+  std::size_t at = out.size();
+  out.resize(at + 24 * num_vertices(m) + 12 * num_faces(m));
+  const auto put = [&](std::uint64_t bits, int bytes) {   // little-endian, whatever the host's order
+    for(int k = 0; k < bytes; ++k)
+      out[at++] = char((bits >> (8 * k)) & 0xffu);
+  };
+  for(vertex_descriptor v : m.vertices())
+  {
+    const Point_3& p = m.point(v);
+    for(double c : {p.x(), p.y(), p.z()})
+    {
+      std::uint64_t bits;
+      std::memcpy(&bits, &c, 8);
+      put(bits, 8);
+    }
+  }
+  for(auto f : m.faces())
+    for(vertex_descriptor v : CGAL::vertices_around_face(m.halfedge(f), m))
+      put(std::uint32_t(v), 4);
+  return out;
+}
+
+/// Decodes `encode_mesh_frame` (for tests): false if `frame` is not one, with the header's
+/// "vertex_count" and "face_count".
+inline bool decode_mesh_frame(const std::string& frame, json& header, std::vector<double>& xyz,
+                              std::vector<std::uint32_t>& faces)
+{
+  if(frame.size() < 4)
+    return false;
+  std::uint32_t n = 0;
+  for(int k = 0; k < 4; ++k)
+    n |= std::uint32_t(static_cast<unsigned char>(frame[std::size_t(k)])) << (8 * k);
+  if(n > frame.size() - 4 || (4 + n) % 8 != 0)
+    return false;
+  header = json::parse(frame.substr(4, n), nullptr, false);
+  if(!header.is_object() || !header.contains("vertex_count") || !header.contains("face_count") ||
+     !header["vertex_count"].is_number_unsigned() || !header["face_count"].is_number_unsigned())
+    return false;
+  const std::size_t nv = header["vertex_count"].get<std::size_t>(), nf = header["face_count"].get<std::size_t>();
+  const std::size_t payload = frame.size() - 4 - n;
+  if(nv > payload / 24 || nf > payload / 12 || payload != 24 * nv + 12 * nf)
+    return false;
+  const auto byte = [&](std::size_t i) { return std::uint64_t(static_cast<unsigned char>(frame[i])); };
+  xyz.resize(3 * nv);
+  for(std::size_t i = 0; i < xyz.size(); ++i)
+  {
+    std::uint64_t bits = 0;
+    for(int k = 0; k < 8; ++k)
+      bits |= byte(4 + n + 8 * i + std::size_t(k)) << (8 * k);
+    std::memcpy(&xyz[i], &bits, 8);
+  }
+  faces.resize(3 * nf);
+  for(std::size_t i = 0; i < faces.size(); ++i)
+  {
+    std::uint64_t bits = 0;
+    for(int k = 0; k < 4; ++k)
+      bits |= byte(4 + n + 24 * nv + 4 * i + std::size_t(k)) << (8 * k);
+    faces[i] = std::uint32_t(bits);
+  }
+  return true;
 }
 
 /// Decodes `encode_frame` (for tests and the fuzz target): false if `frame` is not one.

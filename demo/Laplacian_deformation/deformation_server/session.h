@@ -20,6 +20,8 @@
 #include <atomic>
 #include <chrono>
 #include <fstream>
+#include <list>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -119,6 +121,106 @@ Mesh load_mesh(const Options& options, const std::string& name, std::string& ste
     stem = "mesh";
   return clean;
 }
+
+/// The meshes read last, so that opening the same mesh again (a reload of the page, a second
+/// page, the server's own check of its default mesh at start-up) costs a copy, not a read of the
+/// file: reading and checking a 416k-vertex OFF file takes seconds. An entry is used only while
+/// its file has the same size and modification time; at most `capacity` meshes are kept (the least
+/// recently used goes first). Thread-safe; a mesh is read outside the lock.
+class Mesh_cache
+{
+public:
+  explicit Mesh_cache(std::size_t capacity = 2) : m_capacity(capacity) {}
+
+  /// load_mesh(options, name, stem), or the mesh kept from an earlier call for the same file
+  template <class Options>
+  std::shared_ptr<const Mesh> get(const Options& options, const std::string& name, std::string& stem)
+  {
+    const std::optional<Key> key = key_of(options, name);
+    if(key)
+    {
+      std::lock_guard<std::mutex> lock(m_mutex);
+      for(auto it = m_entries.begin(); it != m_entries.end(); ++it)
+        if(it->key == *key)
+        {
+          m_entries.splice(m_entries.begin(), m_entries, it);   // most recently used first
+          stem = it->stem;
+          ++m_hits;
+          return it->mesh;
+        }
+    }
+    auto mesh = std::make_shared<const Mesh>(load_mesh(options, name, stem));
+    if(key && m_capacity > 0)
+    {
+      std::lock_guard<std::mutex> lock(m_mutex);
+      m_entries.remove_if([&](const Entry& e) { return e.key == *key; });
+      m_entries.push_front(Entry{*key, stem, mesh});
+      while(m_entries.size() > m_capacity)
+        m_entries.pop_back();
+    }
+    return mesh;
+  }
+
+  /// For tests: how many calls were answered from the cache.
+  std::size_t hits()
+  {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    return m_hits;
+  }
+
+private:
+  struct Key
+  {
+    std::string file;
+    std::uintmax_t size = 0;
+    fs::file_time_type::rep modified = 0;
+    bool operator==(const Key& o) const { return file == o.file && size == o.size && modified == o.modified; }
+  };
+  struct Entry
+  {
+    Key key;
+    std::string stem;
+    std::shared_ptr<const Mesh> mesh;
+  };
+
+  // the file `name` stands for, with its size and time; none for the generated plane, a bad name
+  // or a file that cannot be examined (load_mesh() then says why, uncached)
+  template <class Options>
+  static std::optional<Key> key_of(const Options& options, const std::string& name)
+  {
+    fs::path file;
+    if(name == "default")
+    {
+      if(options.mesh.empty())
+        file = fs::path(options.data_dir) / "cactus.off";
+      else
+        file = fs::path(options.mesh);
+    }
+    else if(internal::is_mesh_file_name(name))
+      file = fs::path(options.data_dir) / name;
+    else
+      return std::nullopt;
+    std::error_code ec;
+    const fs::path canonical = fs::canonical(file, ec);
+    if(ec || !fs::is_regular_file(canonical, ec) || ec)
+      return std::nullopt;
+    Key key;
+    key.file = canonical.string();
+    key.size = fs::file_size(canonical, ec);
+    if(ec)
+      return std::nullopt;
+    const fs::file_time_type time = fs::last_write_time(canonical, ec);
+    if(ec)
+      return std::nullopt;
+    key.modified = time.time_since_epoch().count();
+    return key;
+  }
+
+  std::size_t m_capacity;
+  std::mutex m_mutex;
+  std::list<Entry> m_entries;
+  std::size_t m_hits = 0;
+};
 
 inline json policy_json(const Policy& p)
 {

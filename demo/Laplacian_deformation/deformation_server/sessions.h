@@ -103,6 +103,8 @@ public:
     std::lock_guard<std::mutex> lock(m_sessions_mutex);
     return m_sessions.size();
   }
+  /// For tests: how many sessions got their mesh from the cache of meshes read last.
+  std::size_t mesh_cache_hits() { return m_meshes.hits(); }
   /// For tests: holds the lock of session `id` (its requests wait until the lock is released).
   /// (Its time of last use is left as it is.)
   std::unique_lock<std::mutex> hold_session(const std::string& id)
@@ -172,33 +174,49 @@ private:
   Reply create_session(const json& body)
   {
     const std::string name = body.contains("mesh") ? internal::string_member(body, "mesh") : "default";
+    const bool binary = internal::boolean_member(body, "binary", false);
     {
       std::lock_guard<std::mutex> lock(m_sessions_mutex);
       make_room();   // refuse before reading the mesh
     }
     auto s = std::make_shared<Session>();
     s->mesh_name = name;
-    s->rest = load_mesh(m_options, name, s->stem);
+    s->rest = *m_meshes.get(m_options, name, s->stem);
     s->mesh = s->rest;
     s->last_used = Clock::now().time_since_epoch().count();
-    json faces = json::array();
-    for(auto f : s->mesh.faces())
-      for(vertex_descriptor v : CGAL::vertices_around_face(s->mesh.halfedge(f), s->mesh))
-        faces.push_back(std::size_t(v));
-    json reply{{"mesh", name}, {"vertices", internal::positions_json(s->mesh)}, {"faces", faces},
-               {"policy", policy_json(s->policy)}};
-    std::lock_guard<std::mutex> lock(m_sessions_mutex);
-    make_room();
-    std::string id;
-    do
+    json reply{{"mesh", name}, {"policy", policy_json(s->policy)}};
+    if(!binary)
     {
-      char text[17];
-      std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(m_random()));
-      id = text;
-    } while(m_sessions.count(id));
-    m_sessions[id] = std::move(s);
-    reply["session"] = id;
-    return json_reply(reply);
+      json faces = json::array();
+      for(auto f : s->mesh.faces())
+        for(vertex_descriptor v : CGAL::vertices_around_face(s->mesh.halfedge(f), s->mesh))
+          faces.push_back(std::size_t(v));
+      reply["vertices"] = internal::positions_json(s->mesh);
+      reply["faces"] = std::move(faces);
+    }
+    const std::shared_ptr<const Session> created = s;
+    {
+      std::lock_guard<std::mutex> lock(m_sessions_mutex);
+      make_room();
+      std::string id;
+      do
+      {
+        char text[17];
+        std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(m_random()));
+        id = text;
+      } while(m_sessions.count(id));
+      m_sessions[id] = std::move(s);
+      reply["session"] = id;
+    }
+    if(!binary)
+      return json_reply(reply);
+    // (outside the table's lock: the session's rest mesh never changes)
+    reply["vertex_count"] = num_vertices(created->rest);
+    reply["face_count"] = num_faces(created->rest);
+    Reply r;
+    r.body = encode_mesh_frame(reply, created->rest);
+    r.content_type = binary_type();
+    return r;
   }
 
   Reply close_session(const json& body)
@@ -358,6 +376,7 @@ private:
   Server_options m_options;
   std::mutex m_sessions_mutex;   // guards m_sessions and m_random only
   std::map<std::string, std::shared_ptr<Session> > m_sessions;
+  Mesh_cache m_meshes;           // the meshes read last (its own lock)
   std::mt19937_64 m_random;
 };
 
