@@ -1282,6 +1282,69 @@ struct Whole_mesh
 
 } // namespace
 
+namespace {
+// a policy with the fits of `Policy` but without transform_lanes(): the local step gathers its
+// cells one by one and hands them to transform_block()
+template <class Policy>
+struct Cells_only
+{
+  Policy policy;
+  Eigen::Matrix3d transform(const LD::Transform_cell& cell) const { return policy.transform(cell); }
+  void transform_block(const LD::Transform_cell* cells, std::size_t n, Eigen::Matrix3d* out) const
+  {
+    policy.transform_block(cells, n, out);
+  }
+};
+
+template <class Policy>
+void expect_lanes_path_bitwise_cells_path(const Surface_mesh& mesh)
+{
+  static_assert(LD::internal::batched::Has_transform_lanes<Policy>::value, "");
+  static_assert(!LD::internal::batched::Has_transform_lanes<Cells_only<Policy> >::value, "");
+  typedef LD::Mesh_deformer<Surface_mesh, LD::Edge_based_representation, LD::Cotangent_weights, Policy> Lanes_deformer;
+  typedef LD::Mesh_deformer<Surface_mesh, LD::Edge_based_representation, LD::Cotangent_weights, Cells_only<Policy> >
+      Cells_deformer;
+  // ROI: 12 rings around a vertex, the handle its 2-ring, turned by 50 degrees and lifted
+  const vertex_descriptor seed = *std::next(vertices(mesh).begin(), 1000);
+  std::map<vertex_descriptor, int> ring{{seed, 0}};
+  std::vector<vertex_descriptor> order(1, seed), handle;
+  for(std::size_t i = 0; i < order.size(); ++i)
+    for(vertex_descriptor w : CGAL::vertices_around_target(halfedge(order[i], mesh), mesh))
+      if(ring[order[i]] < 12 && ring.emplace(w, ring[order[i]] + 1).second)
+        order.push_back(w);
+  for(vertex_descriptor v : order)
+    if(ring[v] <= 2)
+      handle.push_back(v);
+  const std::vector<Eigen::Vector3d> rest = positions(mesh);
+  const Eigen::Vector3d c = rest[std::size_t(seed)];
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(50 * CGAL_PI / 180, Eigen::Vector3d(0.3, 1, 0.2).normalized()).toRotationMatrix();
+  auto run = [&](auto& d, Surface_mesh& m) {
+    d.insert_roi_vertices(order.begin(), order.end());
+    d.insert_control_vertices(handle.begin(), handle.end());
+    for(vertex_descriptor v : handle)
+      d.set_target_position(v, to_point(c + turn * (rest[std::size_t(v)] - c) + Eigen::Vector3d(0, 0.05, 0.02)));
+    EXPECT_TRUE(d.deform(5, 0.));
+    return positions(m);
+  };
+  Surface_mesh a = mesh, b = mesh;
+  Lanes_deformer by_lanes(a);
+  Cells_deformer by_cells(b);
+  const auto pa = run(by_lanes, a), pb = run(by_cells, b);
+  EXPECT_EQ(pa, pb);
+  EXPECT_GT(max_distance(pa, rest, diagonal(mesh)), 1e-3);   // it did deform
+}
+} // namespace
+
+// The local step gathers the spokes straight into the kernels' lanes for the package's batched
+// policies: the same result, bit for bit, as gathering cells and handing them to transform_block().
+TEST(MeshDeformer, LanesGatherGivesBitwiseTheCellsGather)
+{
+  Surface_mesh dino;
+  ASSERT_TRUE(read_data_mesh("dino.off", dino)) << data_path("dino.off");
+  expect_lanes_path_bitwise_cells_path<LD::Scaled_rotation_transform>(dino);
+  expect_lanes_path_bitwise_cells_path<LD::Principal_scaled_rotation_transform>(dino);
+}
+
 // The operator built for the ROI only (the default with the package's representations) gives
 // bitwise the result of the whole mesh's operator: on the dino, for both representations, hard and
 // soft controls, the rotation-aware start and the rigidity rows, through a smaller ROI (the

@@ -239,6 +239,117 @@ void check_policy(const char* name)
   }
 }
 
+// transform_lanes() on lanes gathered by the caller (as the local step gathers them) gives bitwise
+// transform_block()'s results, for every target and partial lane groups; the lanes the scalar code
+// computes get their cell rebuilt from the lanes (Lane_cells)
+template <class Policy>
+void check_lanes(const char* name)
+{
+  static_assert(B::Has_transform_lanes<Policy>::value, "");
+  const Cell_set set = random_cells(20000, 20261205);
+  const std::vector<LD::Transform_cell> cells = set.cells();
+  const Policy policy;
+  const B::Batch_target saved = B::batch_target();
+  for(B::Batch_target target : available_targets())
+  {
+    if(target == B::Batch_target::per_cell)
+      continue;
+    B::set_batch_target(target);
+    std::vector<Eigen::Matrix3d> by_block(cells.size()), by_lanes(cells.size());
+    policy.transform_block(cells.data(), cells.size(), by_block.data());
+    B::Lanes b;
+    std::vector<double> spokes;
+    for(std::size_t first = 0, size = 1; first < cells.size(); first += std::size_t(size), size = size % B::lanes + 1)
+    {
+      const int m = int((std::min)(std::size_t(size), cells.size() - first));
+      std::size_t d = 0;
+      for(int l = 0; l < m; ++l)
+        d = (std::max)(d, cells[first + std::size_t(l)].size());
+      spokes.assign(7 * d * B::lanes, -7.);   // garbage that begin_lanes() and the gather must overwrite
+      B::begin_lanes(b, m, d, spokes.data());
+      for(int l = 0; l < m; ++l)
+      {
+        const LD::Transform_cell& cell = cells[first + std::size_t(l)];
+        b.degree[l] = std::int64_t(cell.size());
+        for(std::size_t i = 0; i < d; ++i)
+        {
+          const bool on = i < cell.size();
+          for(int c = 0; c < 3; ++c)
+          {
+            spokes[(3 * i + std::size_t(c)) * B::lanes + std::size_t(l)] = on ? cell.rest(i)[c] : 0.;
+            spokes[(3 * (d + i) + std::size_t(c)) * B::lanes + std::size_t(l)] = on ? cell.current(i)[c] : 0.;
+          }
+          spokes[(6 * d + i) * B::lanes + std::size_t(l)] = on ? cell.weight(i) : 0.;
+        }
+      }
+      policy.transform_lanes(b, m, by_lanes.data() + first);
+    }
+    std::size_t different = 0, non_finite = 0;
+    for(std::size_t i = 0; i < cells.size(); ++i)
+    {
+      if(!by_block[i].allFinite())
+      {
+        ++non_finite;
+        different += by_lanes[i].allFinite();
+      }
+      else
+        different += !(by_lanes[i].array() == by_block[i].array()).all();
+    }
+    EXPECT_EQ(different, 0u) << name << " target " << B::batch_target_name(target);
+    EXPECT_GT(non_finite, 0u);
+  }
+  B::set_batch_target(saved);
+}
+
+TEST(BatchedTransforms, GatheredLanesGiveBitwiseTheBlockResults)
+{
+  check_lanes<LD::Rotation_transform>("Rotation_transform");
+  check_lanes<LD::Similarity_transform>("Similarity_transform");
+  check_lanes<LD::Scaled_rotation_transform>("Scaled_rotation_transform");
+  check_lanes<LD::Anchored_scaled_rotation_transform>("Anchored_scaled_rotation_transform");
+  check_lanes<LD::Principal_scaled_rotation_transform>("Principal_scaled_rotation_transform");
+  check_lanes<LD::Rotation_scale_rotation_transform>("Rotation_scale_rotation_transform");
+}
+
+// Lane_cells rebuilds a lane's cell with the very numbers it was gathered from
+TEST(BatchedTransforms, LaneCellsRebuildTheGatheredCell)
+{
+  const Cell_set set = random_cells(8, 11);
+  const std::vector<LD::Transform_cell> cells = set.cells();
+  B::Lanes b;
+  std::size_t d = 0;
+  for(const LD::Transform_cell& c : cells)
+    d = (std::max)(d, c.size());
+  std::vector<double> spokes(7 * d * B::lanes);
+  B::begin_lanes(b, 8, d, spokes.data());
+  for(int l = 0; l < 8; ++l)
+  {
+    b.degree[l] = std::int64_t(cells[std::size_t(l)].size());
+    for(std::size_t i = 0; i < cells[std::size_t(l)].size(); ++i)
+    {
+      for(int c = 0; c < 3; ++c)
+      {
+        spokes[(3 * i + std::size_t(c)) * B::lanes + std::size_t(l)] = cells[std::size_t(l)].rest(i)[c];
+        spokes[(3 * (d + i) + std::size_t(c)) * B::lanes + std::size_t(l)] = cells[std::size_t(l)].current(i)[c];
+      }
+      spokes[(6 * d + i) * B::lanes + std::size_t(l)] = cells[std::size_t(l)].weight(i);
+    }
+  }
+  const B::Lane_cells at(b);
+  for(int l = 0; l < 8; ++l)
+  {
+    const LD::Transform_cell c = at(l);
+    const LD::Transform_cell& e = cells[std::size_t(l)];
+    ASSERT_EQ(c.size(), e.size());
+    for(std::size_t i = 0; i < c.size(); ++i)
+    {
+      EXPECT_TRUE((c.rest(i).array() == e.rest(i).array()).all() || !e.rest(i).allFinite()) << l << " " << i;
+      EXPECT_TRUE((c.current(i).array() == e.current(i).array()).all() || !e.current(i).allFinite()) << l << " " << i;
+      EXPECT_TRUE(c.weight(i) == e.weight(i) || std::isnan(e.weight(i)));
+    }
+  }
+}
+
 TEST(BatchedTransforms, RotationMatchesScalar) { check_policy<LD::Rotation_transform>("Rotation_transform"); }
 TEST(BatchedTransforms, SimilarityMatchesScalar) { check_policy<LD::Similarity_transform>("Similarity_transform"); }
 TEST(BatchedTransforms, ScaledRotationMatchesScalar)

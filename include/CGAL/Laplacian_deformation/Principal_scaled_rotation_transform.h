@@ -71,6 +71,15 @@ struct Principal_scaled_rotation_transform
   {
     internal::batched::transform_cells<internal::batched::Stage::principal_scaled_rotation>(*this, cells, n, out, &rest_axes);
   }
+
+  /// \cond SKIP_IN_MANUAL
+  // the same on m cells that the caller has gathered into `b` (internal::batched::begin_lanes())
+  void transform_lanes(internal::batched::Lanes& b, int m, Eigen::Matrix3d* out) const
+  {
+    internal::batched::fit_lanes<internal::batched::Stage::principal_scaled_rotation>(internal::batched::batch_target(), *this, b, m,
+                                                              internal::batched::Lane_cells(b), out, &rest_axes);
+  }
+  /// \endcond
 };
 
 } // namespace Laplacian_deformation

@@ -50,6 +50,15 @@ struct Scaled_rotation_transform
   {
     internal::batched::transform_cells<internal::batched::Stage::scaled_rotation>(*this, cells, n, out);
   }
+
+  /// \cond SKIP_IN_MANUAL
+  // the same on m cells that the caller has gathered into `b` (internal::batched::begin_lanes())
+  void transform_lanes(internal::batched::Lanes& b, int m, Eigen::Matrix3d* out) const
+  {
+    internal::batched::fit_lanes<internal::batched::Stage::scaled_rotation>(internal::batched::batch_target(), *this, b, m,
+                                                              internal::batched::Lane_cells(b), out);
+  }
+  /// \endcond
 };
 
 } // namespace Laplacian_deformation

@@ -38,6 +38,15 @@ struct Similarity_transform
   {
     internal::batched::transform_cells<internal::batched::Stage::similarity>(*this, cells, n, out);
   }
+
+  /// \cond SKIP_IN_MANUAL
+  // the same on m cells that the caller has gathered into `b` (internal::batched::begin_lanes())
+  void transform_lanes(internal::batched::Lanes& b, int m, Eigen::Matrix3d* out) const
+  {
+    internal::batched::fit_lanes<internal::batched::Stage::similarity>(internal::batched::batch_target(), *this, b, m,
+                                                              internal::batched::Lane_cells(b), out);
+  }
+  /// \endcond
 };
 
 } // namespace Laplacian_deformation

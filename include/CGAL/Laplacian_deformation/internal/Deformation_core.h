@@ -651,6 +651,14 @@ private:
     // the spokes reach scattered nodes: the nodes of the cell `lookahead` rows ahead are
     // prefetched while a cell is gathered (one cache line per node: its current and rest positions)
     const Node_positions* nodes = m_nodes.data();
+    if constexpr(batched::Has_transform_lanes<Policy>::value)
+    {
+      if(batched::batch_target() != batched::Batch_target::per_cell)
+      {
+        fit_lanes(policy, failed);
+        return failed;
+      }
+    }
     for_each_block(m_fit_nodes.size(), [&](std::size_t begin, std::size_t end) {
       // the cells are fitted `group` at a time: by the policy's transform_block() (vectorised)
       // where it has one, by transform(cell) otherwise (group 1)
@@ -711,6 +719,86 @@ private:
       }
     });
     return failed;
+  }
+
+  // the fits of local_step_with() for a policy with transform_lanes(): the spokes of `lanes`
+  // cells at a time are gathered and scaled straight into the kernels' structure-of-arrays
+  // buffers (the same numbers as the cells of the general path, so the same transforms, bit for
+  // bit), without the general path's copy of every cell; the transforms go straight to
+  // m_transforms
+  template <class Policy>
+  void fit_lanes(const Policy& policy, std::atomic<std::size_t>& failed)
+  {
+    const Laplacian_stencils& s = *m_stencils;
+    const Node_positions* nodes = m_nodes.data();
+    constexpr std::size_t lookahead = 6;
+    constexpr int lanes = batched::lanes;
+    for_each_block(m_fit_nodes.size(), [&](std::size_t begin, std::size_t end) {
+      batched::Lanes b;
+      std::vector<double> spokes(7 * m_max_degree * std::size_t(lanes));
+      Eigen::Matrix3d fitted[lanes];
+      for(std::size_t r0 = begin; r0 < end; r0 += std::size_t(lanes))
+      {
+        const int m = int((std::min)(std::size_t(lanes), end - r0));
+        std::size_t d = 0;
+        for(int l = 0; l < m; ++l)
+        {
+          const std::size_t a = m_fit_nodes[r0 + std::size_t(l)];
+          d = (std::max)(d, std::size_t(s.neighbor_start[a + 1] - s.neighbor_start[a]));
+        }
+        batched::begin_lanes(b, m, d, spokes.data());
+        double *rest = spokes.data(), *current = rest + 3 * d * lanes, *weight = current + 3 * d * lanes;
+        for(int l = 0; l < m; ++l)
+        {
+          const std::size_t r = r0 + std::size_t(l);
+          if(r + lookahead < end)
+          {
+            const std::size_t ahead = m_fit_nodes[r + lookahead];
+            for(std::size_t k = s.neighbor_start[ahead]; k < s.neighbor_start[ahead + 1]; ++k)
+              prefetch(nodes + s.neighbor[k]);
+          }
+          const std::size_t a = m_fit_nodes[r], first = s.neighbor_start[a], degree = s.neighbor_start[a + 1] - first;
+          const Eigen::Vector3d &xa = nodes[a].current, &ra = nodes[a].rest;
+          b.degree[l] = std::int64_t(degree);
+          // as in the general path: the spokes, their largest coordinate (six running maxima),
+          // then the cell scaled by a power of two
+          double largest[6] = {0, 0, 0, 0, 0, 0};
+          for(std::size_t i = 0; i < degree; ++i)
+          {
+            const std::size_t nb = s.neighbor[first + i];
+            const Eigen::Vector3d re = ra - nodes[nb].rest, ce = xa - nodes[nb].current;
+            for(int c = 0; c < 3; ++c)
+            {
+              rest[(3 * i + std::size_t(c)) * lanes + std::size_t(l)] = re[c];
+              current[(3 * i + std::size_t(c)) * lanes + std::size_t(l)] = ce[c];
+              largest[c] = (std::max)(largest[c], std::abs(re[c]));
+              largest[3 + c] = (std::max)(largest[3 + c], std::abs(ce[c]));
+            }
+            weight[i * lanes + std::size_t(l)] = (std::max)(s.weight[first + i], 0.);
+          }
+          const double unit = normalizing_power_of_two((std::max)({largest[0], largest[1], largest[2], largest[3],
+                                                                   largest[4], largest[5]}));
+          for(std::size_t k = 0; k < 3 * degree; ++k)
+          {
+            rest[k * lanes + std::size_t(l)] *= unit;
+            current[k * lanes + std::size_t(l)] *= unit;
+          }
+          for(std::size_t i = degree; i < d; ++i)   // past the cell's degree: zeros
+          {
+            for(int c = 0; c < 3; ++c)
+              rest[(3 * i + std::size_t(c)) * lanes + std::size_t(l)] =
+                  current[(3 * i + std::size_t(c)) * lanes + std::size_t(l)] = 0.;
+            weight[i * lanes + std::size_t(l)] = 0.;
+          }
+        }
+        policy.transform_lanes(b, m, fitted);
+        for(int l = 0; l < m; ++l)
+          if(fitted[l].allFinite())
+            m_transforms[r0 + std::size_t(l)] = fitted[l];
+          else
+            ++failed;
+      }
+    });
   }
 
   const Laplacian_stencils* m_stencils = nullptr;

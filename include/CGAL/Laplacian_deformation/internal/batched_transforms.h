@@ -10,7 +10,9 @@
 // u3 = u1 x u2) and the scale fits computed lane-parallel with the operations of the scalar code
 // (see batched_transforms_kernels.h), so that every result is the one of the policy's
 // transform(cell). Lanes that the scalar code sends to the SVD (nearly collinear cells) or whose
-// covariance is not finite are recomputed by transform(cell).
+// covariance is not finite are recomputed by transform(cell). The package's policies also take
+// lanes that the caller has filled (transform_lanes(): the local step gathers and scales a node's
+// spokes straight into them, see begin_lanes() and fit_lanes()).
 //
 // The kernels are compiled three times on x86 with GCC or Clang: for the compilation's own
 // instruction set (SSE2 for a default x86-64 build), for AVX2 and for AVX-512 (function target
@@ -274,6 +276,121 @@ struct No_axes
   Eigen::Matrix3d operator()(const Transform_cell&) const { return Eigen::Matrix3d::Identity(); }
 };
 
+// Prepares `b` for m <= lanes cells whose spokes (at most d each) go into `spokes` (7 d lanes
+// doubles): no lane is a fallback yet, the lanes from m on are empty (no spoke, zero matrices).
+// The caller then writes, for every lane l < m, b.degree[l] and the spokes i < d (zeros from the
+// lane's degree on): rest[(3 i + c) lanes + l], current[...], weight[i lanes + l].
+inline void begin_lanes(Lanes& b, int m, std::size_t d, double* spokes)
+{
+  b.rest = spokes;
+  b.current = spokes + 3 * d * lanes;
+  b.weight = spokes + 6 * d * lanes;
+  b.max_degree = d;
+  for(int l = 0; l < lanes; ++l)
+  {
+    b.fallback[l] = 0;
+    if(l < m)
+      continue;
+    b.degree[l] = 0;
+    for(int k = 0; k < 9; ++k)
+      b.s[k][l] = b.q[k][l] = 0.;
+    for(std::size_t i = 0; i < 7 * d; ++i)
+      spokes[i * lanes + std::size_t(l)] = 0.;
+  }
+}
+
+// The cell of lane `l` of `b`, rebuilt from its spokes (the same numbers as the cell the lane was
+// filled from); the view is valid until the next call.
+class Lane_cells
+{
+public:
+  explicit Lane_cells(const Lanes& b) : m_b(b) {}
+  Transform_cell operator()(int l) const
+  {
+    const std::size_t d = std::size_t(m_b.degree[l]);
+    m_rest.resize(d);
+    m_current.resize(d);
+    m_weight.resize(d);
+    for(std::size_t i = 0; i < d; ++i)
+    {
+      for(int c = 0; c < 3; ++c)
+      {
+        m_rest[i][c] = m_b.rest[(3 * i + std::size_t(c)) * lanes + std::size_t(l)];
+        m_current[i][c] = m_b.current[(3 * i + std::size_t(c)) * lanes + std::size_t(l)];
+      }
+      m_weight[i] = m_b.weight[i * lanes + std::size_t(l)];
+    }
+    return Transform_cell(m_rest.data(), m_current.data(), m_weight.data(), d);
+  }
+
+private:
+  const Lanes& m_b;
+  mutable std::vector<Eigen::Vector3d> m_rest, m_current;
+  mutable std::vector<double> m_weight;
+};
+
+// What follows the gather of m <= lanes cells into `b` (begin_lanes()): their covariances, the fits
+// of `stage`, and out[l] = policy.transform(cell l) for l < m, batched; `cell_at(l)` gives the
+// cell of lane l for the lanes that the scalar code computes (and for the axes of
+// Stage::principal_scaled_rotation, given by `axes(cell)`). `target` is not per_cell.
+template <Stage stage, class Policy, class CellAt, class Axes = No_axes>
+void fit_lanes(Batch_target target, const Policy& policy, Lanes& b, int m, const CellAt& cell_at,
+               Eigen::Matrix3d* out, const Axes& axes = Axes())
+{
+  if constexpr(stage == Stage::anchored_scaled_rotation)
+    b.anchor = Policy::anchor;
+  // the covariances (as Transform_cell::covariance() computes them), scaled as closest_rotation() does
+  run_stage(target, Stage::covariance, b);
+  for(int l = 0; l < m; ++l)
+  {
+    Eigen::Matrix3d s;
+    for(int i = 0; i < 3; ++i)
+      for(int j = 0; j < 3; ++j)
+        s(i, j) = b.s[3 * i + j][l];
+    set_rotation_input(b, l, s);
+    if constexpr(stage == Stage::principal_scaled_rotation)
+    {
+      if(!b.fallback[l])
+      {
+        const Eigen::Matrix3d q = axes(cell_at(l));
+        for(int i = 0; i < 3; ++i)
+          for(int j = 0; j < 3; ++j)
+            b.q[3 * i + j][l] = q(i, j);
+      }
+    }
+  }
+  run_stage(target, stage, b);
+  if constexpr(stage == Stage::scaled_rotation_then_covariance)
+  {
+    // R2 = closest_rotation(sum c e' (S R1 e)^T), then t = R2 S R1
+    for(int l = 0; l < lanes; ++l)
+    {
+      if(b.fallback[l] || l >= m)
+      {
+        for(int k = 0; k < 9; ++k)
+          b.s[k][l] = 0.;
+        continue;
+      }
+      Eigen::Matrix3d s2;
+      for(int i = 0; i < 3; ++i)
+        for(int j = 0; j < 3; ++j)
+          s2(i, j) = b.s[3 * i + j][l];
+      set_rotation_input(b, l, s2);
+    }
+    run_stage(target, Stage::rotation_times_t, b);
+  }
+  for(int l = 0; l < m; ++l)
+  {
+    Eigen::Matrix3d& o = out[l];
+    if(b.fallback[l])
+      o = policy.transform(cell_at(l));
+    else
+      for(int i = 0; i < 3; ++i)
+        for(int j = 0; j < 3; ++j)
+          o(i, j) = b.t[3 * i + j][l];
+  }
+}
+
 // out[i] = policy.transform(cells[i]), i < n, through the kernels of `stage`; `axes(cell)` gives
 // the principal rest axes for Stage::principal_scaled_rotation
 template <Stage stage, class Policy, class Axes = No_axes>
@@ -297,25 +414,10 @@ void transform_cells(const Policy& policy, const Transform_cell* cells, std::siz
       d = (std::max)(d, cells[first + std::size_t(l)].size());
     if(spokes.size() < 7 * d * lanes)
       spokes.resize(7 * d * lanes);
+    begin_lanes(b, m, d, spokes.data());
     double *rest = spokes.data(), *current = rest + 3 * d * lanes, *weight = current + 3 * d * lanes;
-    b.rest = rest;
-    b.current = current;
-    b.weight = weight;
-    b.max_degree = d;
-    if constexpr(stage == Stage::anchored_scaled_rotation)
-      b.anchor = Policy::anchor;
-    for(int l = 0; l < lanes; ++l)
+    for(int l = 0; l < m; ++l)
     {
-      b.fallback[l] = 0;
-      if(l >= m)
-      {
-        b.degree[l] = 0;
-        for(int k = 0; k < 9; ++k)
-          b.s[k][l] = b.q[k][l] = 0.;
-        for(std::size_t i = 0; i < 7 * d; ++i)
-          spokes[i * lanes + std::size_t(l)] = 0.;
-        continue;
-      }
       const Transform_cell& cell = cells[first + std::size_t(l)];
       b.degree[l] = std::int64_t(cell.size());
       for(std::size_t i = 0; i < d; ++i)   // spokes past the cell's degree: zeros (masked)
@@ -329,58 +431,20 @@ void transform_cells(const Policy& policy, const Transform_cell* cells, std::siz
         weight[i * lanes + std::size_t(l)] = on ? cell.weight(i) : 0.;
       }
     }
-    // the covariances (as Transform_cell::covariance() computes them), scaled as closest_rotation() does
-    run_stage(target, Stage::covariance, b);
-    for(int l = 0; l < m; ++l)
-    {
-      Eigen::Matrix3d s;
-      for(int i = 0; i < 3; ++i)
-        for(int j = 0; j < 3; ++j)
-          s(i, j) = b.s[3 * i + j][l];
-      set_rotation_input(b, l, s);
-      if constexpr(stage == Stage::principal_scaled_rotation)
-      {
-        if(!b.fallback[l])
-        {
-          const Eigen::Matrix3d q = axes(cells[first + std::size_t(l)]);
-          for(int i = 0; i < 3; ++i)
-            for(int j = 0; j < 3; ++j)
-              b.q[3 * i + j][l] = q(i, j);
-        }
-      }
-    }
-    run_stage(target, stage, b);
-    if constexpr(stage == Stage::scaled_rotation_then_covariance)
-    {
-      // R2 = closest_rotation(sum c e' (S R1 e)^T), then t = R2 S R1
-      for(int l = 0; l < lanes; ++l)
-      {
-        if(b.fallback[l] || l >= m)
-        {
-          for(int k = 0; k < 9; ++k)
-            b.s[k][l] = 0.;
-          continue;
-        }
-        Eigen::Matrix3d s2;
-        for(int i = 0; i < 3; ++i)
-          for(int j = 0; j < 3; ++j)
-            s2(i, j) = b.s[3 * i + j][l];
-        set_rotation_input(b, l, s2);
-      }
-      run_stage(target, Stage::rotation_times_t, b);
-    }
-    for(int l = 0; l < m; ++l)
-    {
-      Eigen::Matrix3d& o = out[first + std::size_t(l)];
-      if(b.fallback[l])
-        o = policy.transform(cells[first + std::size_t(l)]);
-      else
-        for(int i = 0; i < 3; ++i)
-          for(int j = 0; j < 3; ++j)
-            o(i, j) = b.t[3 * i + j][l];
-    }
+    fit_lanes<stage>(target, policy, b, m, [&](int l) -> const Transform_cell& { return cells[first + std::size_t(l)]; },
+                     out + first, axes);
   }
 }
+
+// A policy whose fits run on lanes gathered by the caller (the local step gathers a node's
+// spokes straight into them):
+// `void transform_lanes(batched::Lanes& b, int m, Eigen::Matrix3d* out) const`, called after
+// begin_lanes() and the gather, with a target that is not per_cell.
+template <class Policy, class = void>
+struct Has_transform_lanes : std::false_type {};
+template <class Policy>
+struct Has_transform_lanes<Policy, std::void_t<decltype(std::declval<const Policy&>().transform_lanes(
+                                       std::declval<Lanes&>(), 0, std::declval<Eigen::Matrix3d*>()))>> : std::true_type {};
 
 } // namespace batched
 } // namespace internal
