@@ -110,14 +110,24 @@ inline int run_deformation_server(Server_options options)
     return 1;
   }
   Deformation_server server(options);
-  {   // the default mesh must load: fail now rather than in the page
-    const Reply r = server.post("/api/session", R"({"mesh":"default"})");
+  {   // the default mesh must load: fail now rather than in the page (the server keeps the mesh
+      // it has read, so the page's first session does not read it again; the binary reply skips
+      // the JSON of every coordinate)
+    const Reply r = server.post("/api/session", R"({"mesh":"default","binary":true})");
+    json header;
+    std::vector<double> xyz;
+    std::vector<std::uint32_t> faces;
     if(r.status != 200)
     {
       std::cerr << "error: " << json::parse(r.body)["error"].get<std::string>() << std::endl;
       return 1;
     }
-    server.post("/api/close", json{{"session", json::parse(r.body)["session"]}}.dump());
+    if(!decode_mesh_frame(r.body, header, xyz, faces))
+    {
+      std::cerr << "error: the default mesh could not be encoded" << std::endl;
+      return 1;
+    }
+    server.post("/api/close", json{{"session", header["session"]}}.dump());
   }
   Http_guard guard;
   guard.token = options.token;

@@ -19,6 +19,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -238,6 +239,84 @@ TEST(BadInput, C03_NonManifoldEdge)
   EXPECT_FALSE(LD::IO::read_triangle_mesh(path, m, error));
   EXPECT_NE(error.find("non-manifold"), std::string::npos) << error;
   EXPECT_TRUE(Snapshot(m) == before);
+}
+
+// The reader's check of a soup (oriented, manifold edges and vertices) gives CGAL's
+// is_polygon_soup_a_polygon_mesh() answer on random soups: pieces of a grid with faces removed
+// (boundaries, bowties), flipped (inconsistent orientations), added across the grid (non-manifold
+// edges and vertices) or merged into quads, with shuffled vertex ids, faces and first corners.
+TEST(BadInput, C03_SoupCheckAgreesWithCgal)
+{
+  std::mt19937_64 g(20261205);
+  std::size_t accepted = 0, refused = 0;
+  for(int trial = 0; trial < 20000; ++trial)
+  {
+    const std::size_t nx = 2 + g() % 4, ny = 2 + g() % 4, n = (nx + 1) * (ny + 1);
+    std::vector<std::vector<std::size_t> > faces;
+    for(std::size_t j = 0; j < ny; ++j)
+      for(std::size_t i = 0; i < nx; ++i)
+      {
+        const std::size_t a = j * (nx + 1) + i, b = a + 1, c = a + nx + 2, d = a + nx + 1;
+        if(g() % 5 == 0)
+          faces.push_back({a, b, c, d});   // a quad
+        else
+        {
+          faces.push_back({a, b, c});
+          faces.push_back({a, c, d});
+        }
+      }
+    const int kind = int(g() % 6);
+    if(kind == 1 || kind == 5)   // remove faces: boundaries, sometimes a vertex with two fans
+      for(int k = 0, m = 1 + int(g() % 4); k < m && faces.size() > 1; ++k)
+        faces.erase(faces.begin() + std::ptrdiff_t(g() % faces.size()));
+    if(kind == 2 || kind == 5)   // flip a face
+    {
+      std::vector<std::size_t>& f = faces[g() % faces.size()];
+      std::reverse(f.begin(), f.end());
+    }
+    if(kind == 3 || kind == 5)   // add a triangle on three distinct vertices
+    {
+      std::vector<std::size_t> t;
+      while(t.size() < 3)
+      {
+        const std::size_t v = g() % n;
+        if(std::find(t.begin(), t.end(), v) == t.end())
+          t.push_back(v);
+      }
+      faces.push_back(t);
+    }
+    if(kind == 4)   // two grids sharing one vertex (a bowtie) or glued along a copied face
+    {
+      const std::size_t size = faces.size();
+      for(std::size_t k = 0; k < size; ++k)
+      {
+        std::vector<std::size_t> f = faces[k];
+        for(std::size_t& v : f)
+          v = v == 0 ? 0 : v + n;
+        faces.push_back(f);
+      }
+    }
+    // shuffled ids, faces and first corners
+    const std::size_t points = kind == 4 ? 2 * n : n;
+    std::vector<std::size_t> id(points);
+    for(std::size_t v = 0; v < points; ++v)
+      id[v] = v;
+    std::shuffle(id.begin(), id.end(), g);
+    for(auto& f : faces)
+    {
+      for(std::size_t& v : f)
+        v = id[v];
+      std::rotate(f.begin(), f.begin() + std::ptrdiff_t(g() % f.size()), f.end());
+    }
+    std::shuffle(faces.begin(), faces.end(), g);
+    const bool cgal = CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(faces);
+    ASSERT_EQ(LD::IO::internal::is_oriented_manifold_soup(faces, points), cgal) << "trial " << trial << " kind " << kind;
+    (cgal ? accepted : refused) += 1;
+  }
+  // both answers are common
+  EXPECT_GT(accepted, 3000u);
+  EXPECT_GT(refused, 3000u);
+  std::cout << "soups: " << accepted << " oriented manifolds, " << refused << " not" << std::endl;
 }
 
 TEST(BadInput, C04_IsolatedVertices)

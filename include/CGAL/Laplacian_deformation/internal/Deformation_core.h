@@ -648,9 +648,7 @@ private:
         m_nodes[a].current = x;
       }
     });
-    // the spokes reach scattered nodes: the nodes of the cell `lookahead` rows ahead are
-    // prefetched while a cell is gathered (one cache line per node: its current and rest positions)
-    const Node_positions* nodes = m_nodes.data();
+    // the fits: each cell gathered by gather_cell()
     if constexpr(batched::Has_transform_lanes<Policy>::value)
     {
       if(batched::batch_target() != batched::Batch_target::per_cell)
@@ -670,41 +668,21 @@ private:
       std::vector<Eigen::Matrix3d> fitted(group);
       for(std::size_t r = begin; r < end; ++r)
       {
-        if(r + lookahead < end)
-        {
-          const std::size_t ahead = m_fit_nodes[r + lookahead];
-          for(std::size_t k = s.neighbor_start[ahead]; k < s.neighbor_start[ahead + 1]; ++k)
-            prefetch(nodes + s.neighbor[k]);
-        }
-        const std::size_t a = m_fit_nodes[r], first = s.neighbor_start[a], degree = s.neighbor_start[a + 1] - first;
-        const Eigen::Vector3d &xa = nodes[a].current, &ra = nodes[a].rest;
         Eigen::Vector3d *re = rest_edges.data() + cells.size() * m_max_degree,
                         *ce = current_edges.data() + cells.size() * m_max_degree;
         double* fw = fit_weights.data() + cells.size() * m_max_degree;
-        // the fits are homogeneous in the edges: the cell is scaled by a power of two (exact) that
-        // brings its largest coordinate near 1, away from overflow and underflow at any model size
-        // (its largest coordinate is found while the spokes are gathered)
-        // (a running maximum per coordinate: six independent chains; a NaN is skipped as before)
-        double largest[6] = {0, 0, 0, 0, 0, 0};
-        for(std::size_t i = 0; i < degree; ++i)
-        {
-          const std::size_t b = s.neighbor[first + i];
-          re[i] = ra - nodes[b].rest;
-          ce[i] = xa - nodes[b].current;
-          fw[i] = (std::max)(s.weight[first + i], 0.);
-          for(int c = 0; c < 3; ++c)
+        const std::size_t degree = gather_cell(r, end, [&](std::size_t i, const Eigen::Vector3d& e,
+                                                           const Eigen::Vector3d& f, double w) {
+          re[i] = e;
+          ce[i] = f;
+          fw[i] = w;
+        }, [&](std::size_t n, double unit) {
+          for(std::size_t i = 0; i < n; ++i)
           {
-            largest[c] = (std::max)(largest[c], std::abs(re[i][c]));
-            largest[3 + c] = (std::max)(largest[3 + c], std::abs(ce[i][c]));
+            re[i] *= unit;
+            ce[i] *= unit;
           }
-        }
-        const double unit = normalizing_power_of_two((std::max)({largest[0], largest[1], largest[2], largest[3],
-                                                                 largest[4], largest[5]}));
-        for(std::size_t i = 0; i < degree; ++i)
-        {
-          re[i] *= unit;
-          ce[i] *= unit;
-        }
+        });
         cells.emplace_back(re, ce, fw, degree);
         if(cells.size() < group && r + 1 < end)
           continue;
@@ -721,17 +699,53 @@ private:
     return failed;
   }
 
-  // the fits of local_step_with() for a policy with transform_lanes(): the spokes of `lanes`
-  // cells at a time are gathered and scaled straight into the kernels' structure-of-arrays
-  // buffers (the same numbers as the cells of the general path, so the same transforms, bit for
-  // bit), without the general path's copy of every cell; the transforms go straight to
-  // m_transforms
+  // Gathers the cell of fitted row r (of a block ending at `end`): put(i, e, e', c) for each spoke i
+  // (rest and current edge vectors, fit weight max(w, 0)), then scale(degree, unit) with the power
+  // of two that brings the cell's largest coordinate near 1 (the fits are homogeneous in the
+  // edges: exact, and away from overflow and underflow at any model size); returns the degree.
+  // The spokes reach scattered nodes: the nodes of the cell `lookahead` rows ahead are prefetched
+  // (one cache line per node: its current and rest positions).
+  template <class Put, class Scale>
+  std::size_t gather_cell(std::size_t r, std::size_t end, const Put& put, const Scale& scale) const
+  {
+    constexpr std::size_t lookahead = 6;
+    const Laplacian_stencils& s = *m_stencils;
+    const Node_positions* nodes = m_nodes.data();
+    if(r + lookahead < end)
+    {
+      const std::size_t ahead = m_fit_nodes[r + lookahead];
+      for(std::size_t k = s.neighbor_start[ahead]; k < s.neighbor_start[ahead + 1]; ++k)
+        prefetch(nodes + s.neighbor[k]);
+    }
+    const std::size_t a = m_fit_nodes[r], first = s.neighbor_start[a], degree = s.neighbor_start[a + 1] - first;
+    const Eigen::Vector3d &xa = nodes[a].current, &ra = nodes[a].rest;
+    // the largest coordinate, found while the spokes are gathered (a running maximum per
+    // coordinate: six independent chains; a NaN is skipped)
+    double largest[6] = {0, 0, 0, 0, 0, 0};
+    for(std::size_t i = 0; i < degree; ++i)
+    {
+      const std::size_t nb = s.neighbor[first + i];
+      const Eigen::Vector3d e = ra - nodes[nb].rest, f = xa - nodes[nb].current;
+      put(i, e, f, (std::max)(s.weight[first + i], 0.));
+      for(int c = 0; c < 3; ++c)
+      {
+        largest[c] = (std::max)(largest[c], std::abs(e[c]));
+        largest[3 + c] = (std::max)(largest[3 + c], std::abs(f[c]));
+      }
+    }
+    scale(degree, normalizing_power_of_two((std::max)({largest[0], largest[1], largest[2], largest[3], largest[4],
+                                                       largest[5]})));
+    return degree;
+  }
+
+  // the fits of local_step_with() for a policy with transform_lanes(): gather_cell() puts the
+  // spokes of `lanes` cells at a time straight into the kernels' structure-of-arrays buffers (the
+  // same numbers as the cells of the general path, so the same transforms, bit for bit), without
+  // the general path's copy of every cell
   template <class Policy>
   void fit_lanes(const Policy& policy, std::atomic<std::size_t>& failed)
   {
     const Laplacian_stencils& s = *m_stencils;
-    const Node_positions* nodes = m_nodes.data();
-    constexpr std::size_t lookahead = 6;
     constexpr int lanes = batched::lanes;
     for_each_block(m_fit_nodes.size(), [&](std::size_t begin, std::size_t end) {
       batched::Lanes b;
@@ -750,39 +764,22 @@ private:
         double *rest = spokes.data(), *current = rest + 3 * d * lanes, *weight = current + 3 * d * lanes;
         for(int l = 0; l < m; ++l)
         {
-          const std::size_t r = r0 + std::size_t(l);
-          if(r + lookahead < end)
-          {
-            const std::size_t ahead = m_fit_nodes[r + lookahead];
-            for(std::size_t k = s.neighbor_start[ahead]; k < s.neighbor_start[ahead + 1]; ++k)
-              prefetch(nodes + s.neighbor[k]);
-          }
-          const std::size_t a = m_fit_nodes[r], first = s.neighbor_start[a], degree = s.neighbor_start[a + 1] - first;
-          const Eigen::Vector3d &xa = nodes[a].current, &ra = nodes[a].rest;
-          b.degree[l] = std::int64_t(degree);
-          // as in the general path: the spokes, their largest coordinate (six running maxima),
-          // then the cell scaled by a power of two
-          double largest[6] = {0, 0, 0, 0, 0, 0};
-          for(std::size_t i = 0; i < degree; ++i)
-          {
-            const std::size_t nb = s.neighbor[first + i];
-            const Eigen::Vector3d re = ra - nodes[nb].rest, ce = xa - nodes[nb].current;
+          const std::size_t degree = gather_cell(r0 + std::size_t(l), end, [&](std::size_t i, const Eigen::Vector3d& e,
+                                                                                const Eigen::Vector3d& f, double w) {
             for(int c = 0; c < 3; ++c)
             {
-              rest[(3 * i + std::size_t(c)) * lanes + std::size_t(l)] = re[c];
-              current[(3 * i + std::size_t(c)) * lanes + std::size_t(l)] = ce[c];
-              largest[c] = (std::max)(largest[c], std::abs(re[c]));
-              largest[3 + c] = (std::max)(largest[3 + c], std::abs(ce[c]));
+              rest[(3 * i + std::size_t(c)) * lanes + std::size_t(l)] = e[c];
+              current[(3 * i + std::size_t(c)) * lanes + std::size_t(l)] = f[c];
             }
-            weight[i * lanes + std::size_t(l)] = (std::max)(s.weight[first + i], 0.);
-          }
-          const double unit = normalizing_power_of_two((std::max)({largest[0], largest[1], largest[2], largest[3],
-                                                                   largest[4], largest[5]}));
-          for(std::size_t k = 0; k < 3 * degree; ++k)
-          {
-            rest[k * lanes + std::size_t(l)] *= unit;
-            current[k * lanes + std::size_t(l)] *= unit;
-          }
+            weight[i * lanes + std::size_t(l)] = w;
+          }, [&](std::size_t n, double unit) {
+            for(std::size_t k = 0; k < 3 * n; ++k)
+            {
+              rest[k * lanes + std::size_t(l)] *= unit;
+              current[k * lanes + std::size_t(l)] *= unit;
+            }
+          });
+          b.degree[l] = std::int64_t(degree);
           for(std::size_t i = degree; i < d; ++i)   // past the cell's degree: zeros
           {
             for(int c = 0; c < 3; ++c)
