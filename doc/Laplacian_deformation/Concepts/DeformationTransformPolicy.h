@@ -42,7 +42,9 @@ compile time and then passes the cells of its local step in groups (currently 32
 fit several cells at once with vector instructions; without it, `transform()` is called per cell.
 The same thread-safety rules apply (calls on different groups run concurrently). All the
 package's policies except `Fixed_transform` have one, computed by vectorised kernels that give
-the results of their `transform()` (see \ref LapDefPerformance).
+the results of their `transform()` (see \ref LapDefPerformance); for them the local step goes
+through an internal entry point of the same kernels instead, which takes the spokes already in
+the kernels' layout (the same results, bit for bit).
 
 \cgalRefines{DefaultConstructible}
 
