@@ -114,20 +114,14 @@ inline int run_deformation_server(Server_options options)
       // it has read, so the page's first session does not read it again; the binary reply skips
       // the JSON of every coordinate)
     const Reply r = server.post("/api/session", R"({"mesh":"default","binary":true})");
-    json header;
-    std::vector<double> xyz;
-    std::vector<std::uint32_t> faces;
     if(r.status != 200)
     {
       std::cerr << "error: " << json::parse(r.body)["error"].get<std::string>() << std::endl;
       return 1;
     }
-    if(!decode_mesh_frame(r.body, header, xyz, faces))
-    {
-      std::cerr << "error: the default mesh could not be encoded" << std::endl;
-      return 1;
-    }
-    server.post("/api/close", json{{"session", header["session"]}}.dump());
+    json header;   // only the frame's header: its session
+    internal::frame_header(r.body, 8, header);
+    server.post("/api/close", json{{"session", header.value("session", std::string())}}.dump());
   }
   Http_guard guard;
   guard.token = options.token;

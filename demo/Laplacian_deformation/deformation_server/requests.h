@@ -240,6 +240,43 @@ inline void append_le32(std::string& out, std::uint32_t x)
     out.push_back(char((x >> (8 * k)) & 0xffu));
 }
 
+// `bytes` little-endian bytes of `frame` from `at`
+inline std::uint64_t read_le(const std::string& frame, std::size_t at, int bytes)
+{
+  std::uint64_t x = 0;
+  for(int k = 0; k < bytes; ++k)
+    x |= std::uint64_t(static_cast<unsigned char>(frame[at + std::size_t(k)])) << (8 * k);
+  return x;
+}
+
+// The start of a binary frame: a little-endian uint32 L and L bytes of `header` as JSON, padded
+// with spaces so that the payload starts at a multiple of `alignment`; `payload` bytes are
+// reserved after it.
+inline std::string frame_start(const json& header, std::size_t alignment, std::size_t payload)
+{
+  std::string text = dump(header);
+  while((4 + text.size()) % alignment != 0)
+    text.push_back(' ');
+  std::string out;
+  out.reserve(4 + text.size() + payload);
+  append_le32(out, std::uint32_t(text.size()));
+  out += text;
+  return out;
+}
+
+// Reads the start of a frame made by frame_start(): its header (a JSON object) and the offset of
+// its payload, or 0 if `frame` does not start with one.
+inline std::size_t frame_header(const std::string& frame, std::size_t alignment, json& header)
+{
+  if(frame.size() < 4)
+    return 0;
+  const std::size_t n = std::size_t(read_le(frame, 0, 4));
+  if(n > frame.size() - 4 || (4 + n) % alignment != 0)
+    return 0;
+  header = json::parse(frame.substr(4, n), nullptr, false);
+  return header.is_object() ? 4 + n : 0;
+}
+
 } // namespace internal
 
 /// The binary frame of a drag reply (`"binary": true`): a little-endian uint32 L, L bytes of a
@@ -248,13 +285,7 @@ inline void append_le32(std::string& out, std::uint32_t x)
 /// order of the selection reply's "moving").
 inline std::string encode_frame(const json& header, const Mesh& m, const std::vector<vertex_descriptor>& vertices)
 {
-  std::string text = dump(header);
-  while((4 + text.size()) % 4 != 0)
-    text.push_back(' ');
-  std::string out;
-  out.reserve(4 + text.size() + 12 * vertices.size());
-  internal::append_le32(out, std::uint32_t(text.size()));
-  out += text;
+  std::string out = internal::frame_start(header, 4, 12 * vertices.size());
   for(vertex_descriptor v : vertices)
   {
     const Point_3& p = m.point(v);
@@ -279,12 +310,7 @@ inline std::string encode_mesh_frame(const json& header, const Mesh& m)
 {
   if(!CGAL::is_triangle_mesh(m) || m.has_garbage())
     throw std::logic_error("encode_mesh_frame: the mesh has garbage or a face that is not a triangle");
-  std::string text = dump(header);
-  while((4 + text.size()) % 8 != 0)
-    text.push_back(' ');
-  std::string out;
-  internal::append_le32(out, std::uint32_t(text.size()));
-  out += text;
+  std::string out = internal::frame_start(header, 8, 0);
   std::size_t at = out.size();
   out.resize(at + 24 * num_vertices(m) + 12 * num_faces(m));
   const auto put = [&](std::uint64_t bits, int bytes) {   // little-endian, whatever the host's order
@@ -312,60 +338,36 @@ inline std::string encode_mesh_frame(const json& header, const Mesh& m)
 inline bool decode_mesh_frame(const std::string& frame, json& header, std::vector<double>& xyz,
                               std::vector<std::uint32_t>& faces)
 {
-  if(frame.size() < 4)
-    return false;
-  std::uint32_t n = 0;
-  for(int k = 0; k < 4; ++k)
-    n |= std::uint32_t(static_cast<unsigned char>(frame[std::size_t(k)])) << (8 * k);
-  if(n > frame.size() - 4 || (4 + n) % 8 != 0)
-    return false;
-  header = json::parse(frame.substr(4, n), nullptr, false);
-  if(!header.is_object() || !header.contains("vertex_count") || !header.contains("face_count") ||
+  const std::size_t at = internal::frame_header(frame, 8, header);
+  if(at == 0 || !header.contains("vertex_count") || !header.contains("face_count") ||
      !header["vertex_count"].is_number_unsigned() || !header["face_count"].is_number_unsigned())
     return false;
   const std::size_t nv = header["vertex_count"].get<std::size_t>(), nf = header["face_count"].get<std::size_t>();
-  const std::size_t payload = frame.size() - 4 - n;
+  const std::size_t payload = frame.size() - at;
   if(nv > payload / 24 || nf > payload / 12 || payload != 24 * nv + 12 * nf)
     return false;
-  const auto byte = [&](std::size_t i) { return std::uint64_t(static_cast<unsigned char>(frame[i])); };
   xyz.resize(3 * nv);
   for(std::size_t i = 0; i < xyz.size(); ++i)
   {
-    std::uint64_t bits = 0;
-    for(int k = 0; k < 8; ++k)
-      bits |= byte(4 + n + 8 * i + std::size_t(k)) << (8 * k);
+    const std::uint64_t bits = internal::read_le(frame, at + 8 * i, 8);
     std::memcpy(&xyz[i], &bits, 8);
   }
   faces.resize(3 * nf);
   for(std::size_t i = 0; i < faces.size(); ++i)
-  {
-    std::uint64_t bits = 0;
-    for(int k = 0; k < 4; ++k)
-      bits |= byte(4 + n + 24 * nv + 4 * i + std::size_t(k)) << (8 * k);
-    faces[i] = std::uint32_t(bits);
-  }
+    faces[i] = std::uint32_t(internal::read_le(frame, at + 24 * nv + 4 * i, 4));
   return true;
 }
 
 /// Decodes `encode_frame` (for tests and the fuzz target): false if `frame` is not one.
 inline bool decode_frame(const std::string& frame, json& header, std::vector<float>& xyz)
 {
-  if(frame.size() < 4)
+  const std::size_t at = internal::frame_header(frame, 4, header);
+  if(at == 0 || (frame.size() - at) % 12 != 0)
     return false;
-  std::uint32_t n = 0;
-  for(int k = 0; k < 4; ++k)
-    n |= std::uint32_t(static_cast<unsigned char>(frame[std::size_t(k)])) << (8 * k);
-  if(n > frame.size() - 4 || (frame.size() - 4 - n) % 12 != 0 || (4 + n) % 4 != 0)
-    return false;
-  header = json::parse(frame.substr(4, n), nullptr, false);
-  if(!header.is_object())
-    return false;
-  xyz.resize((frame.size() - 4 - n) / 4);
+  xyz.resize((frame.size() - at) / 4);
   for(std::size_t i = 0; i < xyz.size(); ++i)
   {
-    std::uint32_t bits = 0;
-    for(int k = 0; k < 4; ++k)
-      bits |= std::uint32_t(static_cast<unsigned char>(frame[4 + n + 4 * i + std::size_t(k)])) << (8 * k);
+    const std::uint32_t bits = std::uint32_t(internal::read_le(frame, at + 4 * i, 4));
     std::memcpy(&xyz[i], &bits, 4);
   }
   return true;
