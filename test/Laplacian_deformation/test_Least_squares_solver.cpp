@@ -512,6 +512,40 @@ TEST(NormalMatrix, MatchesEigenProductFullAndLower)
   }
 }
 
+// internal::normal_matrix_from_rows() with a prefetch hook (the one Mesh_deformer passes): the same
+// matrix bit for bit as without it; the hook is called for the rows of the columns ahead, every row
+// index valid: stage 0 for the rows of column j + prefetch_columns_ahead in both passes, stage 1
+// (symbolic pass) and 2 (numeric pass) for the rows of the column half as far ahead
+TEST(NormalMatrix, PrefetchHookFetchesTheRowsAheadAndChangesNothing)
+{
+  typedef Eigen::SparseMatrix<double>::StorageIndex Index;
+  const Eigen::SparseMatrix<double> a = random_sparse(2000, 700, 5, 12);
+  const Eigen::SparseMatrix<double> at = a.transpose();
+  auto rows = [&at](Index r, Index j, auto&& f) {
+    for(Eigen::SparseMatrix<double>::InnerIterator it(at, r); it; ++it)
+      if(Index(it.index()) >= j)
+        f(Index(it.index()), it.value());
+  };
+  std::size_t calls[3] = {0, 0, 0};
+  bool valid = true;
+  auto record = [&](Index r, int stage) {
+    valid = valid && r >= 0 && r < Index(a.rows()) && stage >= 0 && stage <= 2;
+    ++calls[stage >= 0 && stage <= 2 ? stage : 0];
+  };
+  const Eigen::SparseMatrix<double> plain = LD::internal::normal_matrix_from_rows(a, rows, true);
+  const Eigen::SparseMatrix<double> fetched = LD::internal::normal_matrix_from_rows(a, rows, true, false, record);
+  ASSERT_EQ(fetched.nonZeros(), plain.nonZeros());
+  EXPECT_TRUE(std::equal(plain.valuePtr(), plain.valuePtr() + plain.nonZeros(), fetched.valuePtr()));
+  EXPECT_TRUE(std::equal(plain.innerIndexPtr(), plain.innerIndexPtr() + plain.nonZeros(), fetched.innerIndexPtr()));
+  EXPECT_TRUE(valid);
+  const std::ptrdiff_t far = LD::internal::prefetch_columns_ahead, near = far / 2;
+  const std::size_t nnz = std::size_t(a.nonZeros());
+  auto first_columns = [&a](std::ptrdiff_t k) { return std::size_t(a.outerIndexPtr()[k]); };
+  EXPECT_EQ(calls[0], 2 * (nnz - first_columns(far)));
+  EXPECT_EQ(calls[1], nnz - first_columns(near));
+  EXPECT_EQ(calls[2], nnz - first_columns(near));
+}
+
 // internal::branchless_lower_bound (the row search of A^T A's assembly): std::lower_bound's
 // answer on every key of sorted ranges of every length up to 40, duplicates and empty ranges included
 TEST(NormalMatrix, BranchlessLowerBoundIsLowerBound)

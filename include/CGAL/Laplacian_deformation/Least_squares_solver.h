@@ -127,14 +127,15 @@ public:
   // taken from): `rows(r, j, f)` calls f(i, A(r, i)) for the entries i >= j of row r, in
   // increasing i, with exactly `a`'s values. A^T is then never formed (its memory and its
   // scattered copy are saved); the normal matrix is the same, bit for bit.
-  template <class Rows>
-  bool factor_with_rows(Eigen::SparseMatrix<double>&& a, const Rows& rows)
+  // `prefetch(r, stage)`: see internal::normal_matrix_from_rows().
+  template <class Rows, class Prefetch = internal::No_row_prefetch>
+  bool factor_with_rows(Eigen::SparseMatrix<double>&& a, const Rows& rows, const Prefetch& prefetch = Prefetch())
   {
     if(!take_matrix(a))
       return false;
     Eigen::SparseMatrix<double> n = internal::normal_matrix_from_rows(
         m_a, rows, internal::Solver_traits_read_lower_triangle<Solver_traits>::value,
-        internal::runs_in_parallel<ConcurrencyTag>());
+        internal::runs_in_parallel<ConcurrencyTag>(), prefetch);
     return factor_normal_matrix(n);
   }
   /// \endcond

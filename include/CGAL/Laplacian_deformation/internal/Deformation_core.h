@@ -319,9 +319,20 @@ public:
     // then the soft rows
     const int* const unknown_index = m_unknown_index.data();
     const std::size_t* const unknowns = m_unknowns.data();
-    const std::size_t* const system_rows = m_rows.data();
     const std::size_t* const soft = m_soft.data();
     const double lambda = m_lambda;
+    // where each system row's entries lie in D: one record per row, so that a row is reached
+    // through one scattered load instead of two (the rows of a column are far apart)
+    struct Row_range
+    {
+      Index begin, end;
+    };
+    Fresh_vector<Row_range> row_range(m_rows.size());
+    for_each_block(m_rows.size(), [&](std::size_t begin, std::size_t end) {
+      for(std::size_t r = begin; r < end; ++r)
+        row_range[r] = Row_range{d_outer[m_rows[r]], Index(row_end(m_rows[r]))};
+    });
+    const Row_range* const ranges = row_range.data();
     auto rows = [=](Index r, Index j, auto&& f) {
       if(r >= Index(nr))
       {
@@ -330,9 +341,8 @@ public:
           f(Index(column), lambda);
         return;
       }
-      const std::size_t a = system_rows[std::size_t(r)];
-      const Index* begin = d_inner + d_outer[a];
-      const Index* const end = d_inner + (d_nonzeros ? d_outer[a] + d_nonzeros[a] : d_outer[a + 1]);
+      const Index* begin = d_inner + ranges[r].begin;
+      const Index* const end = d_inner + ranges[r].end;
       if(j > 0)
         begin = branchless_lower_bound(begin, end, Index(unknowns[std::size_t(j)]));
       for(const Index* p = begin; p != end; ++p)
@@ -342,7 +352,23 @@ public:
           f(Index(u), d_value[p - d_inner]);
       }
     };
-    if(nu > 0 && !m_solver.factor_with_rows(std::move(m_a), rows))   // the solver keeps A: no copy
+    auto prefetch_row = [=](Index r, int stage) {
+      if(r >= Index(nr))
+        return;
+      if(stage == 0)
+        prefetch(ranges + r);
+      else
+      {
+        prefetch(d_inner + ranges[r].begin);
+        prefetch(d_inner + ranges[r].end - 1);
+        if(stage == 2)
+        {
+          prefetch(d_value + ranges[r].begin);
+          prefetch(d_value + ranges[r].end - 1);
+        }
+      }
+    };
+    if(nu > 0 && !m_solver.factor_with_rows(std::move(m_a), rows, prefetch_row))   // the solver keeps A: no copy
     {
       result.status = m_solver.info() == m_solver.NOT_FINITE ? NON_FINITE_INPUT : FACTORIZATION_FAILED;
       result.message = m_solver.info() == m_solver.NOT_FINITE
@@ -811,14 +837,7 @@ private:
   {
     Eigen::Vector3d current = Eigen::Vector3d::Zero(), rest = Eigen::Vector3d::Zero();
   };
-  static void prefetch(const void* p)
-  {
-#if defined(__GNUC__)
-    __builtin_prefetch(p);
-#else
-    (void)p;
-#endif
-  }
+  static void prefetch(const void* p) { prefetch_line(p); }
   typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Known;
   Eigen::SparseMatrix<double> m_a;   // A (handed to m_solver by preprocess())
   Known m_known;                     // K (by rows)
