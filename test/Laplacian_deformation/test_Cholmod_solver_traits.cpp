@@ -95,6 +95,42 @@ TEST(CholmodSupernodalLlt, SolveColumnsMatchesCholmodSolve)
   EXPECT_FALSE(x3.allFinite());
 }
 
+// solve_columns() keeps the inverse of CHOLMOD's fill-reducing permutation between solves: a new
+// factorisation of another matrix of the same size, whose permutation differs, gets its own (a stale
+// inverse would put b's rows in the wrong places), and three and five columns still match CHOLMOD's
+// solve after it
+TEST(CholmodSupernodalLlt, SolveColumnsFollowsANewPermutation)
+{
+  const Eigen::SparseMatrix<double> n = grid_normal_matrix(40);
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> q(n.rows());
+  q.setIdentity();
+  std::mt19937 g(3);
+  std::shuffle(q.indices().data(), q.indices().data() + q.size(), g);
+  Eigen::SparseMatrix<double> shuffled_full;
+  shuffled_full = n.selfadjointView<Eigen::Lower>().twistedBy(q);
+  const Eigen::SparseMatrix<double> shuffled = shuffled_full.triangularView<Eigen::Lower>();
+  LD::Cholmod_supernodal_llt llt;
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Random(n.rows(), 3);
+  std::vector<std::vector<int>> permutations;
+  for(const Eigen::SparseMatrix<double>* m : {&n, &shuffled, &n})
+  {
+    llt.compute(*m);
+    ASSERT_EQ(llt.info(), Eigen::Success);
+    const int* perm = static_cast<const int*>(llt.factor()->Perm);
+    ASSERT_NE(perm, nullptr);
+    permutations.emplace_back(perm, perm + n.rows());
+    Eigen::MatrixX3d x;
+    ASSERT_TRUE(llt.solve_columns(b, x));
+    const Eigen::MatrixXd reference = llt.solve(b);
+    EXPECT_LE((x - reference).norm(), 1e-12 * reference.norm());
+    Eigen::MatrixXd x5;
+    const Eigen::MatrixXd b5 = Eigen::MatrixXd::Random(n.rows(), 5);
+    ASSERT_TRUE(llt.solve_columns(b5, x5));
+    EXPECT_LE((x5 - llt.solve(b5)).norm(), 1e-12 * x5.norm());
+  }
+  EXPECT_NE(permutations[0], permutations[1]) << "the test needs two different permutations";
+}
+
 // The three-column substitutions (interleaved columns, column kernels, subtrees of the elimination
 // tree on several threads) against CHOLMOD's own solve, for every kernel this processor runs and
 // both schedules; the parallel schedule is deterministic and differs from the sequential one by

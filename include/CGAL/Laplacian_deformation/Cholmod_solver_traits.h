@@ -345,31 +345,49 @@ private:
       m_schedule_bins = bins;
       m_schedule_valid = true;
     }
+    // the position of row k of b in y (the inverse of CHOLMOD's permutation, kept while it is the
+    // same): y = P b and x = P^T y then go through b and x in order, three columns at once, and
+    // reach y (three interleaved values: one cache line) at scattered places, instead of reaching
+    // each of b's and x's three columns at scattered places; on TBB's threads when parallel
+    if(perm != nullptr && (m_permutation.size() != std::size_t(l.n) ||
+                           !std::equal(m_permutation.begin(), m_permutation.end(), perm)))
+    {
+      m_permutation.assign(perm, perm + l.n);
+      m_inverse_permutation.resize(std::size_t(l.n));
+      for(int i = 0; i < l.n; ++i)
+        m_inverse_permutation[std::size_t(perm[i])] = i;
+    }
+    const int* const position = perm ? m_inverse_permutation.data() : nullptr;
     // fresh at the first solve: advised for huge pages (first touches, see internal/huge_pages.h)
     internal::resize_huge(m_interleaved, 3 * std::size_t(l.n));
     double* y = m_interleaved.data();
-    for(int i = 0; i < l.n; ++i)   // y = P b
-    {
-      const Eigen::Index k = perm ? perm[i] : i;
-      y[3 * i] = b(k, 0);
-      y[3 * i + 1] = b(k, 1);
-      y[3 * i + 2] = b(k, 2);
-    }
+    internal::for_each_block(std::size_t(l.n), parallel, [&](std::size_t begin, std::size_t end) {
+      for(std::size_t k = begin; k < end; ++k)   // y = P b
+      {
+        double* const yi = y + 3 * std::size_t(position ? position[k] : int(k));
+        yi[0] = b(Eigen::Index(k), 0);
+        yi[1] = b(Eigen::Index(k), 1);
+        yi[2] = b(Eigen::Index(k), 2);
+      }
+    }, 4096);
     m_schedule.solve(l, y, parallel);
     m_parallel_groups = parallel ? (std::max)(std::size_t(1), m_schedule.number_of_bins()) : 1;
     internal::resize_dense_huge(x, l.n, 3);
-    for(int i = 0; i < l.n; ++i)   // x = P^T y
-    {
-      const Eigen::Index k = perm ? perm[i] : i;
-      x(k, 0) = y[3 * i];
-      x(k, 1) = y[3 * i + 1];
-      x(k, 2) = y[3 * i + 2];
-    }
+    internal::for_each_block(std::size_t(l.n), parallel, [&](std::size_t begin, std::size_t end) {
+      for(std::size_t k = begin; k < end; ++k)   // x = P^T y
+      {
+        const double* const yi = y + 3 * std::size_t(position ? position[k] : int(k));
+        x(Eigen::Index(k), 0) = yi[0];
+        x(Eigen::Index(k), 1) = yi[1];
+        x(Eigen::Index(k), 2) = yi[2];
+      }
+    }, 4096);
     return true;
   }
 
   mutable Eigen::MatrixXd m_y, m_w;      // workspace, kept across solves
   mutable std::vector<double> m_interleaved;
+  mutable std::vector<int> m_permutation, m_inverse_permutation;   // CHOLMOD's P at the last solve, and its inverse
   mutable internal::Supernodal_schedule m_schedule;   // of the current symbolic factor
   mutable bool m_schedule_valid = false;
   mutable int m_schedule_bins = 0;
