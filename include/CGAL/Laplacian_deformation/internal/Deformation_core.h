@@ -356,15 +356,15 @@ public:
       if(r >= Index(nr))
         return;
       if(stage == 0)
-        prefetch(ranges + r);
+        prefetch_line(ranges + r);
       else
       {
-        prefetch(d_inner + ranges[r].begin);
-        prefetch(d_inner + ranges[r].end - 1);
+        prefetch_line(d_inner + ranges[r].begin);
+        prefetch_line(d_inner + ranges[r].end - 1);
         if(stage == 2)
         {
-          prefetch(d_value + ranges[r].begin);
-          prefetch(d_value + ranges[r].end - 1);
+          prefetch_line(d_value + ranges[r].begin);
+          prefetch_line(d_value + ranges[r].end - 1);
         }
       }
     };
@@ -599,7 +599,7 @@ private:
       {
         if(j + lookahead < end)
           for(Eigen::SparseMatrix<double>::InnerIterator it(a, Eigen::Index(j + lookahead)); it; ++it)
-            prefetch(&b(it.row(), 0));
+            prefetch_line(&b(it.row(), 0));
         Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
         for(Eigen::SparseMatrix<double>::InnerIterator it(a, Eigen::Index(j)); it; ++it)
           sum += it.value() * b.row(it.row());
@@ -625,8 +625,8 @@ private:
         if(r + lookahead < end)
           for(Operator::InnerIterator it(d, Eigen::Index(m_rows[r + lookahead])); it; ++it)
           {
-            prefetch(&p[std::size_t(it.col())]);
-            prefetch(&m_unknown_index[std::size_t(it.col())]);
+            prefetch_line(&p[std::size_t(it.col())]);
+            prefetch_line(&m_unknown_index[std::size_t(it.col())]);
           }
         Eigen::RowVector3d residual = -b.row(Eigen::Index(r));
         for(Operator::InnerIterator it(d, Eigen::Index(m_rows[r])); it; ++it)
@@ -665,7 +665,7 @@ private:
         {
           const std::size_t ahead = m_needed_nodes[i + lookahead];
           for(std::size_t k = s.combination_start[ahead]; k < s.combination_start[ahead + 1]; ++k)
-            prefetch(&p[s.combination_vertex[k]]);
+            prefetch_line(&p[s.combination_vertex[k]]);
         }
         const std::size_t a = m_needed_nodes[i];
         Eigen::Vector3d x = Eigen::Vector3d::Zero();
@@ -741,7 +741,7 @@ private:
     {
       const std::size_t ahead = m_fit_nodes[r + lookahead];
       for(std::size_t k = s.neighbor_start[ahead]; k < s.neighbor_start[ahead + 1]; ++k)
-        prefetch(nodes + s.neighbor[k]);
+        prefetch_line(nodes + s.neighbor[k]);
     }
     const std::size_t a = m_fit_nodes[r], first = s.neighbor_start[a], degree = s.neighbor_start[a + 1] - first;
     const Eigen::Vector3d &xa = nodes[a].current, &ra = nodes[a].rest;
@@ -837,7 +837,6 @@ private:
   {
     Eigen::Vector3d current = Eigen::Vector3d::Zero(), rest = Eigen::Vector3d::Zero();
   };
-  static void prefetch(const void* p) { prefetch_line(p); }
   typedef Eigen::SparseMatrix<double, Eigen::RowMajor> Known;
   Eigen::SparseMatrix<double> m_a;   // A (handed to m_solver by preprocess())
   Known m_known;                     // K (by rows)
