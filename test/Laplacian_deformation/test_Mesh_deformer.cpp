@@ -468,6 +468,67 @@ TEST(MeshDeformer, FailedDeformAfterRoiShrinkWritesNothing)
   EXPECT_EQ(positions(m)[std::size_t(leaving)], positions(bumpy_plane())[std::size_t(leaving)]);
 }
 
+// deform() and preprocess() put back only the vertices they moved (a list of them, not a pass over
+// the mesh): a vertex that leaves the ROI, comes back, is reset, leaves again, or leaves after
+// overwrite_initial_geometry() is at its rest position whenever it is outside the ROI after a
+// successful call, and a vertex that never left is where the deformation put it
+TEST(MeshDeformer, VerticesOutsideTheRoiAreAtRestAfterEverySuccessfulCall)
+{
+  Surface_mesh m = bumpy_plane();
+  const Task task = patch_task(m);
+  std::vector<Eigen::Vector3d> rest = positions(m);
+  LD::Mesh_deformer<Surface_mesh> d(m);
+  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  d.insert_control_vertices(task.controls.begin(), task.controls.end());
+  std::size_t checked_moved = 0;
+  auto outside_at_rest = [&](const char* step) {
+    SCOPED_TRACE(step);
+    const std::vector<Eigen::Vector3d> now = positions(m);
+    for(vertex_descriptor v : vertices(m))
+      if(!d.is_roi_vertex(v))
+        EXPECT_EQ(now[std::size_t(v)], rest[std::size_t(v)]) << "vertex " << std::size_t(v);
+      else if(now[std::size_t(v)] != rest[std::size_t(v)])
+        ++checked_moved;
+  };
+  std::vector<vertex_descriptor> free;
+  for(vertex_descriptor v : task.roi)
+    if(!d.is_control_vertex(v))
+      free.push_back(v);
+  ASSERT_GE(free.size(), 6u);
+  d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0, 0, 0.3));
+  ASSERT_TRUE(d.deform(2, 0.));
+  outside_at_rest("first deform");
+  d.erase_roi_vertex(free[0]);
+  d.erase_roi_vertex(free[1]);
+  ASSERT_TRUE(d.preprocess());                     // the two leave: back at rest at once
+  outside_at_rest("preprocess after two left");
+  d.insert_roi_vertex(free[0]);                    // comes back, moves, leaves again
+  ASSERT_TRUE(d.deform(1, 0.));
+  EXPECT_NE(positions(m)[std::size_t(free[0])], rest[std::size_t(free[0])]);
+  outside_at_rest("deform after one came back");
+  d.reset();                                       // the ROI at rest, its flags cleared
+  d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0, 0, 0.2));
+  ASSERT_TRUE(d.deform(1, 0.));
+  d.erase_roi_vertex(free[0]);
+  d.erase_roi_vertex(free[2]);
+  ASSERT_TRUE(d.deform(1, 0.));
+  outside_at_rest("deform after reset and two more left");
+  d.overwrite_initial_geometry();                  // the deformed shape is the new rest
+  rest = positions(m);
+  d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0, 0.1, 0));
+  ASSERT_TRUE(d.deform(1, 0.));
+  d.erase_roi_vertex(free[3]);
+  ASSERT_TRUE(d.deform(1, 0.));
+  outside_at_rest("deform after overwrite_initial_geometry()");
+  d.clear_roi_vertices();                          // everything leaves
+  d.insert_roi_vertex(free[4]);
+  d.insert_control_vertex(free[5]);
+  d.insert_roi_vertex(free[5]);
+  ASSERT_TRUE(d.preprocess());
+  outside_at_rest("preprocess after the ROI was cleared");
+  EXPECT_GT(checked_moved, task.roi.size());       // the checks saw moved ROI vertices too
+}
+
 TEST(MeshDeformer, RefactorsOnlyWhenTheSystemChanges)
 {
   Surface_mesh m = bumpy_plane();

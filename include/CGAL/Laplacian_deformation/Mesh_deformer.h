@@ -461,6 +461,9 @@ public:
       for(vertex_descriptor v : m_roi)
         put_position(v, p[index(v)], true);
       restore_vertices_outside_roi();
+      m_moved_vertices.clear();               // now exactly the ROI (the ROI holds each vertex once)
+      for(vertex_descriptor v : m_roi)
+        m_moved_vertices.push_back(index(v));
       add_warnings(p);
     }
     m_last.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -500,6 +503,7 @@ public:
     m_positions = m_rest;
     m_written.clear();
     std::fill(m_moved.begin(), m_moved.end(), 0);
+    m_moved_vertices.clear();
     for(vertex_descriptor v : m_roi)     // rotations given to rotate() are relative to the new rest
       if(is_control_vertex(v))
       {
@@ -662,12 +666,23 @@ private:
     m_last.message = message;
     return false;
   }
-  // vertices that left the ROI go back to their rest positions
+  // vertices that left the ROI go back to their rest positions. Only the vertices deform() moved
+  // are looked at (m_moved_vertices lists them, with stale entries whose flag was cleared since):
+  // the cost is the previous ROI's, not the mesh's (this runs after every deform()).
   void restore_vertices_outside_roi()
   {
-    for(vertex_descriptor v : vertices(m_tm))
-      if(m_moved[index(v)] && m_role[index(v)] == internal::FIXED_VERTEX)
-        put_position(v, m_rest[index(v)], false);
+    std::size_t kept = 0;
+    for(std::size_t k = 0; k < m_moved_vertices.size(); ++k)
+    {
+      const std::size_t i = m_moved_vertices[k];
+      if(!m_moved[i])
+        continue;
+      if(m_role[i] == internal::FIXED_VERTEX)
+        put_position(m_vertex_at_index[i], m_rest[i], false);
+      else
+        m_moved_vertices[kept++] = i;
+    }
+    m_moved_vertices.resize(kept);
   }
   bool check_topology()
   {
@@ -675,15 +690,21 @@ private:
       return true;
     return fail(TOPOLOGY_CHANGED, "the mesh's topology changed since the deformer was constructed");
   }
-  // once: finite rest positions, and the number of halfedges pointing to each vertex (one
+  // once: finite rest positions (and their largest coordinate, for the weights' scaling: see
+  // internal::build_rest_operator()), and the number of halfedges pointing to each vertex (one
   // sequential pass over the halfedges) for check_umbrellas() (polygon faces are fine: LapDefPolygons)
   bool check_mesh()
   {
     if(m_mesh_checked)
       return true;
+    double largest = 0;
     for(const Eigen::Vector3d& p : m_rest)
+    {
       if(!p.allFinite())
         return fail(NON_FINITE_INPUT, "a rest position of the mesh is not finite");
+      largest = (std::max)(largest, p.cwiseAbs().maxCoeff());
+    }
+    m_largest_coordinate = largest;
     m_pointing.assign(m_number_of_vertices, 0);
     for(auto h : halfedges(m_tm))
       ++m_pointing[index(target(h, m_tm))];
@@ -747,7 +768,7 @@ private:
     m_nodes.emplace(m_tm, m_vpm);
     internal::Rest_operator r;
     internal::build_rest_operator(r, *m_nodes, m_vim, m_rest, m_weights, Geom_traits(),
-                                  internal::runs_in_parallel<ConcurrencyTag>(), true, &m_roi);
+                                  internal::runs_in_parallel<ConcurrencyTag>(), m_largest_coordinate, &m_roi);
     m_stencils = std::move(r.stencils);
     m_rest_nodes = std::move(r.rest_nodes);
     m_d.swap(r.d);   // Eigen 3.4's sparse matrices have no move assignment: std::move would copy
@@ -1006,6 +1027,7 @@ private:
   std::vector<std::uint32_t> m_face_vertex;               // vertices (32-bit indices: see Deformation_core)
   std::vector<Eigen::Vector3d> m_rest_normals;             // and their rest normals
   std::vector<unsigned char> m_is_roi, m_is_control, m_moved, m_role;
+  std::vector<std::size_t> m_moved_vertices;   // a superset of the vertices whose m_moved is set
   std::vector<Point> m_target;
   Weight_policy m_weights;
   std::optional<Nodes> m_nodes;
@@ -1035,6 +1057,7 @@ private:
   bool m_soft = false;
   bool m_operator_ready = false;
   bool m_mesh_checked = false;
+  double m_largest_coordinate = 0;                  // of the rest positions (check_mesh())
   std::vector<std::uint32_t> m_pointing;            // per vertex: the halfedges pointing to it (check_mesh())
   std::vector<unsigned char> m_umbrella_checked;    // per vertex: its umbrella found manifold (check_umbrellas())
   bool m_foreign_vertex = false;

@@ -44,7 +44,7 @@ Laplacian_stencils weighted_stencils(const TriangleMesh& tm, const Representatio
   const typename Representation::template Nodes<TriangleMesh, VertexPointMap> nodes(tm, vpm);
   Laplacian_stencils s;
   std::vector<Eigen::Vector3d> x;
-  build_weighted_stencils(s, x, nodes, vim, vertex_positions(tm, vpm, vim), weights, gt, false, false);
+  build_weighted_stencils(s, x, nodes, vim, vertex_positions(tm, vpm, vim), weights, gt, false, 0.);
   return s;
 }
 
@@ -58,7 +58,8 @@ Rest_operator rest_operator(const TriangleMesh& tm, const Representation&, const
 {
   const typename Representation::template Nodes<TriangleMesh, VertexPointMap> nodes(tm, vpm);
   Rest_operator r;
-  build_rest_operator(r, nodes, vim, vertex_positions(tm, vpm, vim), weights, gt, false, scale_safe);
+  const std::vector<Eigen::Vector3d> rest = vertex_positions(tm, vpm, vim);
+  build_rest_operator(r, nodes, vim, rest, weights, gt, false, scale_safe ? largest_coordinate(rest) : 0.);
   return r;
 }
 

@@ -572,10 +572,21 @@ void compute_scale_safe_weights(Laplacian_stencils& s, const std::vector<Eigen::
 // The rest operator of a representation: the one builder behind Mesh_deformer, laplacian_matrix()
 // and the metrics' Laplacian errors. Stencils (of every node, or with `region` of the nodes near
 // those vertices: laplacian_stencils_near()), rest node positions, scale-safe weights, D and
-// delta = D p_rest. The fan triangles are freed once the weights are computed. With `scale_safe`
-// the weights of far-from-unit meshes come from a power-of-two scaled copy (see
-// compute_scale_safe_weights(): right for least squares and for relative errors, not for a caller
-// that wants the operator's own values, as laplacian_matrix()).
+// delta = D p_rest. The fan triangles are freed once the weights are computed. With `largest` > 0
+// (the largest rest coordinate of the whole mesh: largest_coordinate(), kept by a caller that
+// builds several operators of one rest geometry) the weights of far-from-unit meshes come from a
+// power-of-two scaled copy (see compute_scale_safe_weights(): right for least squares and for
+// relative errors, not for a caller that wants the operator's own values, as laplacian_matrix(),
+// which passes 0).
+// the largest absolute coordinate of `rest` (build_rest_operator()'s `largest`)
+inline double largest_coordinate(const std::vector<Eigen::Vector3d>& rest)
+{
+  double largest = 0;
+  for(const Eigen::Vector3d& p : rest)
+    largest = (std::max)(largest, p.cwiseAbs().maxCoeff());
+  return largest;
+}
+
 struct Rest_operator
 {
   Laplacian_stencils stencils;
@@ -590,7 +601,7 @@ template <class Nodes, class VertexIndexMap, class WeightPolicy, class GeomTrait
           class VertexRange = std::vector<typename Nodes::vertex_descriptor>>
 void build_weighted_stencils(Laplacian_stencils& s, std::vector<Eigen::Vector3d>& rest_nodes, const Nodes& nodes,
                              const VertexIndexMap& vertex_index, const std::vector<Eigen::Vector3d>& rest,
-                             const WeightPolicy& weights, const GeomTraits& gt, bool parallel, bool scale_safe,
+                             const WeightPolicy& weights, const GeomTraits& gt, bool parallel, double largest,
                              const VertexRange* region = nullptr)
 {
   if constexpr(has_incident_nodes<Nodes>::value)
@@ -603,10 +614,6 @@ void build_weighted_stencils(Laplacian_stencils& s, std::vector<Eigen::Vector3d>
   else
     s = laplacian_stencils(nodes, rest.size(), vertex_index, parallel);
   node_positions(s, rest, rest_nodes);
-  double largest = 0;
-  if(scale_safe)
-    for(const Eigen::Vector3d& p : rest)
-      largest = (std::max)(largest, p.cwiseAbs().maxCoeff());
   compute_scale_safe_weights(s, rest_nodes, largest, weights, gt, parallel);   // largest 0: as they are
 }
 
@@ -614,9 +621,9 @@ template <class Nodes, class VertexIndexMap, class WeightPolicy, class GeomTrait
           class VertexRange = std::vector<typename Nodes::vertex_descriptor>>
 void build_rest_operator(Rest_operator& r, const Nodes& nodes, const VertexIndexMap& vertex_index,
                          const std::vector<Eigen::Vector3d>& rest, const WeightPolicy& weights, const GeomTraits& gt,
-                         bool parallel, bool scale_safe, const VertexRange* region = nullptr)
+                         bool parallel, double largest, const VertexRange* region = nullptr)
 {
-  build_weighted_stencils(r.stencils, r.rest_nodes, nodes, vertex_index, rest, weights, gt, parallel, scale_safe, region);
+  build_weighted_stencils(r.stencils, r.rest_nodes, nodes, vertex_index, rest, weights, gt, parallel, largest, region);
   // the fan triangles serve the weights only: free them before a factorisation (its peak)
   std::vector<std::array<Stencil_index, 2>>().swap(r.stencils.fan);
   std::vector<std::size_t>().swap(r.stencils.fan_start);
