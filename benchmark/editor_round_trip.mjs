@@ -7,7 +7,9 @@
 // Prints the numbers; asserts nothing (timings depend on the machine and its load).
 //   usage: node benchmark/editor_round_trip.mjs --server PATH/laplacian_deform
 //            [--mesh armadillo.off | --mesh-file PATH] [--roi-percent 10] [--drags 8]
-//            [--selections 4] [--iterations 4] [--chromium /usr/bin/chromium]
+//            [--selections 4] [--iterations 4] [--chromium /usr/bin/chromium] [--trace FILE]
+// --trace writes Chromium's trace of the drags (DevTools protocol; open it in chrome://tracing or
+// Perfetto): the main thread's tasks and the GPU process's work per frame.
 // --mesh-file serves PATH as the session's "default" mesh (e.g. a large mesh outside the data folder).
 // Needs `npm ci` in viewer/ (playwright-core) and the mesh in the tool's data folder
 // (scripts/setup.sh unpacks CGAL's meshes).
@@ -27,6 +29,7 @@ const drags = Number(arg('--drags', '8'));
 const selections = Number(arg('--selections', '4'));
 const iterations = Number(arg('--iterations', '4'));
 const executablePath = arg('--chromium', '/usr/bin/chromium');
+const traceFile = arg('--trace', null);
 if(!tool) { console.error('usage: node benchmark/editor_round_trip.mjs --server PATH/laplacian_deform [--mesh NAME]'); process.exit(2); }
 
 const median = (a) => { const s = [...a].sort((x, y) => x - y); return s.length ? s[Math.floor(s.length / 2)] : NaN; };
@@ -145,19 +148,39 @@ try {
     new MutationObserver(() => {
       const d = window.__drags[window.__drags.length - 1];
       const m = /update ([\d.]+) ms/.exec(document.getElementById('timing').textContent);
-      if(d && m && d.applied === undefined) { d.applied = performance.now(); d.update = Number(m[1]); }
+      if(d && m && d.applied === undefined) {
+        d.applied = performance.now(); d.update = Number(m[1]);
+        // the view draws the new positions at the next animation frame (requested before this);
+        // the frame after it starts once that one is drawn and handed to the compositor
+        requestAnimationFrame(() => requestAnimationFrame(() => { d.drawn = performance.now(); }));
+      }
     }).observe(document.getElementById('timing'), { childList: true, characterData: true, subtree: true });
   });
   await page.click('#mode-drag');
   // the selection is sent (and factored) on the press
   const first = await pressSelection(handle);
   const h = first.at;
+  let stopTrace = async () => {};
+  if(traceFile) {
+    const cdp = await context.newCDPSession(page);
+    const events = [];
+    cdp.on('Tracing.dataCollected', (e) => events.push(...e.value));
+    const complete = new Promise((resolve) => cdp.on('Tracing.tracingComplete', resolve));
+    await cdp.send('Tracing.start', { traceConfig: { includedCategories: ['devtools.timeline', 'toplevel', 'gpu', 'cc', 'blink', 'v8'] } });
+    stopTrace = async () => {
+      await cdp.send('Tracing.end');
+      await complete;
+      fs.writeFileSync(traceFile, JSON.stringify({ traceEvents: events }));
+      console.log(`trace of the drags: ${traceFile} (${events.length} events)`);
+    };
+  }
   for(let i = 1; i <= drags; ++i) {
     await page.mouse.move(h.x - 3 * i, h.y - 6 * i);
-    await page.waitForFunction((k) => window.__drags.length >= k && window.__drags[k - 1].applied !== undefined,
+    await page.waitForFunction((k) => window.__drags.length >= k && window.__drags[k - 1].drawn !== undefined,
                                i, { timeout: 120000, polling: 5 });
   }
   await page.mouse.up();
+  await stopTrace();
   const samples = await page.evaluate(() => window.__drags);
   // the network part: request start to the reply's last byte (resource timing), per drag
   const network = await page.evaluate(() => performance.getEntriesByType('resource')
@@ -167,6 +190,9 @@ try {
               `server update median ${f1(median(updates))} ms; target 1.5 x update + 10 ms = ${f1(1.5 * median(updates) + 10)} ms`);
   const within = samples.filter((d) => d.applied - d.sent <= 1.5 * d.update + 10).length;
   console.log(`drag round trips (ms): ${trips.map(f1).join(' ')}; within 1.5 x their own update + 10 ms: ${within}/${samples.length}`);
+  const drawn = samples.map((d) => d.drawn - d.sent);
+  console.log(`drag to frame drawn (the round trip, then the frame with the new positions): median ${f1(median(drawn))} ms ` +
+              `(max ${f1(Math.max(...drawn))}); WebGL drawn by ${await page.evaluate(() => (window.editor.renderer ? window.editor.renderer() : 'a renderer this page does not name'))}`);
   console.log(`drag request to last byte of the reply (ms): ${network.map(f1).join(' ')} (the rest of the round trip is the page's: ` +
               `decoding, normals, and waiting for the main thread, e.g. a frame being drawn)`);
   console.log(`page timing line: ${await page.textContent('#timing')}`);

@@ -74,7 +74,8 @@ async function apiMesh(body) {
   return { ...header, vertices: new Float64Array(buffer, at, 3 * nv), faces: new Uint32Array(buffer, at + 24 * nv, 3 * nf) };
 }
 
-const view = new PanelView($('panels'), { background: '#ffffff', captionPosition: 'bottom' });
+// (lighterOnSoftware: without a GPU, no multisampling, and half the resolution during a drag or an orbit)
+const view = new PanelView($('panels'), { background: '#ffffff', captionPosition: 'bottom', lighterOnSoftware: true });
 // Left button edits; right button turns (shift: pans), middle and wheel zoom.
 view.controls.mouseButtons = { LEFT: null, MIDDLE: THREE.MOUSE.DOLLY, RIGHT: THREE.MOUSE.ROTATE };
 
@@ -298,20 +299,23 @@ canvas.addEventListener('pointerdown', (event) => {
   if(state.mode !== 'drag') { gesture = { kind: 'paint' }; paint(event); return; }
   const waiting = { kind: 'wait', last: null, released: false };
   gesture = waiting;
+  view.setInteracting(true);          // until the gesture ends (see endGesture)
+  const abandon = () => { if(gesture === waiting) { gesture = null; view.setInteracting(false); } };
   state.starting = (async () => {
-    try { if(!(await commitSelection())) { if(gesture === waiting) gesture = null; return; } } catch(e) {
+    try { if(!(await commitSelection())) { abandon(); return; } } catch(e) {
       message(e.message);
-      if(gesture === waiting) gesture = null;
+      abandon();
       return;
     }
     if(gesture !== waiting) return;   // another gesture replaced this one
     const center = handleCentroid();
     const normal = view.camera.getWorldDirection(new THREE.Vector3());
     const start = rayPlane(event, center, normal);
-    if(!start) { gesture = null; return; }
+    if(!start) { abandon(); return; }
     const g = { kind: event.ctrlKey || event.altKey ? 'rotate' : 'translate', center, normal, start,
                 x: event.clientX, base: state.transform.clone() };
     gesture = waiting.released ? null : g;
+    if(!gesture) view.setInteracting(false);   // released while the selection was being prepared
     const transform = waiting.last && gestureTransform(g, waiting.last);
     if(transform) { state.transform = transform; requestDrag(); }
   })();
@@ -329,6 +333,7 @@ const endGesture = (event) => {
   if(gesture && canvas.hasPointerCapture(event.pointerId)) canvas.releasePointerCapture(event.pointerId);
   if(gesture && gesture.kind === 'wait') { gesture.released = true; return; }   // ends once the selection is ready
   gesture = null;
+  view.setInteracting(false);   // the next frame at the full resolution
 };
 canvas.addEventListener('pointerup', endGesture);
 canvas.addEventListener('pointercancel', endGesture);
@@ -395,6 +400,10 @@ window.editor = {
   },
   /** The vertex under client coordinates (or null). */
   vertexAt(x, y) { const hit = view.pick(x, y); return hit ? hit.vertex : null; },
+  /** 'cpu' (software WebGL: lighter frames, see PanelView) or 'gpu', and the resolution drawn now (1: full). */
+  renderer() { return view.software ? 'cpu' : 'gpu'; },
+  renderScale() { return view.renderer.getPixelRatio() / view.pixelRatio; },
+  antialias() { return view.renderer.getContext().getContextAttributes().antialias; },
   /** Current positions (as drawn). */
   positions() { return Array.from(state.mesh.geometry.getAttribute('position').array); },
   /** Largest distance between a handle vertex as drawn and its target (transform applied to its rest position). */

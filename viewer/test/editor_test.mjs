@@ -95,8 +95,16 @@ test('paint, drag, rotate, switch policy in the editor page', { timeout: 300000 
   await page.mouse.move(h.x, h.y);
   await page.mouse.down();
   await page.mouse.move(h.x - 40, h.y - 110, { steps: 12 });
+  // without a GPU (this test's Chromium runs with --disable-gpu: SwiftShader), lighter frames: no
+  // multisampling, half the resolution while the button is down, the full one after the release
+  const drawing = await page.evaluate(() => ({ renderer: window.editor.renderer(), scale: window.editor.renderScale(),
+                                               antialias: window.editor.antialias() }));
+  assert.equal(drawing.renderer, 'cpu', 'Chromium with --disable-gpu draws WebGL in software');
+  assert.equal(drawing.scale, 0.5, 'half the resolution during the drag');
+  assert.equal(drawing.antialias, false, 'no multisampling in software');
   await page.mouse.up();
   await page.evaluate(() => window.editor.idle());
+  assert.equal(await page.evaluate(() => window.editor.renderScale()), 1, 'the full resolution after the release');
   const moved = await page.evaluate(() => ({
     positions: window.editor.positions(), updates: window.editor.state.updates, handleError: window.editor.handleError(),
     reply: window.editor.state.lastReply && { handle_error: window.editor.state.lastReply.handle_error,
