@@ -274,8 +274,9 @@ export class PanelView {
 }
 
 /**
- * Whether WebGL is drawn by the CPU here (SwiftShader, llvmpipe, softpipe: a browser without a
- * usable GPU, or one run with --disable-gpu), from the renderer's name (a throwaway context).
+ * Whether WebGL is drawn by the CPU here (SwiftShader, llvmpipe, softpipe, Microsoft's Basic Render
+ * Driver: a browser without a usable GPU, or one run with --disable-gpu), from the renderer's name
+ * (a throwaway context).
  */
 export function softwareWebGL() {
   const gl = document.createElement('canvas').getContext('webgl2');
@@ -284,5 +285,5 @@ export function softwareWebGL() {
   const name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER));
   const lose = gl.getExtension('WEBGL_lose_context');
   if(lose) lose.loseContext();
-  return /swiftshader|llvmpipe|softpipe|software/i.test(name);
+  return /swiftshader|llvmpipe|softpipe|software|basic render driver/i.test(name);
 }
