@@ -7,7 +7,12 @@
 // vertex_any, edge_any (level 0 only): the same with the run-time policies Any_weights and
 // Any_transform (holding the defaults), the cost of the type erasure against the static path.
 // ROIs: "all_but_2pct" = every vertex but the 2% lowest in y (fixed), "roi_10pct" = the 10%
-// highest in y; in both the 1% highest vertices are the handle, moved up by 5% of the height.
+// highest in y; in both the 1% highest vertices are the handle, moved up by 5% of the height;
+// "roi_1pct" = the 1% highest, of which the 0.1% highest are the handle.
+// first_use (roi_10pct and roi_1pct): the constructor, the insertions and the first preprocess()
+// timed together (CGAL's constructor computes the weights of every halfedge of the mesh);
+// new_selection: a second selection of the same size (the lowest vertices) on the same deformer,
+// the ROI cleared, the new one inserted and preprocess() timed.
 //
 //   bench_Mesh_deformer [--levels=0,1] [Google Benchmark flags, e.g. --benchmark_format=json]
 //
@@ -57,6 +62,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -376,11 +382,13 @@ struct Selection
 
 // roi_percent = 98: all but the 2% lowest; 10: the 10% highest; 1: the 1% highest (a small
 // selection on a big mesh, as in the editor). The handle: the 1% highest (0.1% with the 1% ROI).
-Selection select(const Mesh& m, int roi_percent)
+// lowest = true: the same counted from the bottom (another selection of the same size).
+Selection select(const Mesh& m, int roi_percent, bool lowest = false)
 {
   std::vector<vertex_descriptor> by_height(vertices(m).begin(), vertices(m).end());
-  std::sort(by_height.begin(), by_height.end(),
-            [&](vertex_descriptor a, vertex_descriptor b) { return m.point(a).y() < m.point(b).y(); });
+  std::sort(by_height.begin(), by_height.end(), [&](vertex_descriptor a, vertex_descriptor b) {
+    return lowest ? m.point(a).y() > m.point(b).y() : m.point(a).y() < m.point(b).y();
+  });
   Selection s;
   const std::size_t n = by_height.size(), in_roi = n * std::size_t(roi_percent) / 100,
                     moved = roi_percent > 1 ? n / 100 : n / 1000;
@@ -450,6 +458,72 @@ void BM_preprocess(benchmark::State& state, int level, int roi_percent)
   state.counters["roi"] = double(s.roi.size());
 }
 
+// What a user waits for when a new mesh meets its first (small) selection: the deformer's
+// constructor, the insertion of the ROI and the handle, and the first preprocess(). CGAL's
+// constructor does work proportional to the mesh (it computes the weight of every halfedge of the
+// mesh), which BM_preprocess leaves out; ours keeps per-vertex arrays and the rest positions.
+// The copy of the mesh and the destruction of the deformer are not timed.
+template <class Method>
+void BM_first_use(benchmark::State& state, int level, int roi_percent)
+{
+  const Mesh& base = armadillo(level);
+  const Selection s = select(base, roi_percent);
+  last_factor = Factor_record();
+  const Memory_probe memory;
+  for(auto _ : state)
+  {
+    state.PauseTiming();
+    Mesh m = base;
+    std::optional<typename Method::Deformer> d;
+    state.ResumeTiming();
+    d.emplace(m);
+    Method::insert(*d, s);
+    if(!d->preprocess())
+      state.SkipWithError("preprocess failed");
+    state.PauseTiming();
+    d.reset();
+    state.ResumeTiming();
+  }
+  memory.report(state);
+  report_factor(state);
+  state.counters["vertices"] = double(num_vertices(base));
+  state.counters["roi"] = double(s.roi.size());
+}
+
+// A new selection on a mesh the deformer already knows (the editor's case: the user selects
+// again): the highest vertices were selected and preprocessed; timed: the ROI and the controls
+// cleared, a selection of the same size at the bottom of the mesh inserted, and preprocess().
+template <class Method>
+void BM_new_selection(benchmark::State& state, int level, int roi_percent)
+{
+  const Mesh& base = armadillo(level);
+  const Selection first = select(base, roi_percent), s = select(base, roi_percent, true);
+  last_factor = Factor_record();
+  const Memory_probe memory;
+  for(auto _ : state)
+  {
+    state.PauseTiming();
+    Mesh m = base;
+    std::optional<typename Method::Deformer> d;
+    d.emplace(m);
+    Method::insert(*d, first);
+    if(!d->preprocess())
+      state.SkipWithError("preprocess failed");
+    state.ResumeTiming();
+    d->clear_roi_vertices();
+    Method::insert(*d, s);
+    if(!d->preprocess())
+      state.SkipWithError("preprocess failed");
+    state.PauseTiming();
+    d.reset();
+    state.ResumeTiming();
+  }
+  memory.report(state);
+  report_factor(state);
+  state.counters["vertices"] = double(num_vertices(base));
+  state.counters["roi"] = double(s.roi.size());
+}
+
 template <class Deformer>
 void record_split(const Deformer& d, double& local, double& rhs, double& solve)
 {
@@ -512,6 +586,19 @@ void register_method(const std::string& name, int level)
     i->Unit(benchmark::kMillisecond);
     if(level > 0)   // one factorisation takes seconds: few repetitions
       p->Iterations(level > 1 ? 1 : 2);
+    if(roi_percent < 98)   // a selection small against the mesh: what its first use costs
+    {
+      auto* f = benchmark::RegisterBenchmark(("first_use/" + name + suffix).c_str(),
+                                             [=](benchmark::State& st) { BM_first_use<Method>(st, level, roi_percent); });
+      auto* n = benchmark::RegisterBenchmark(("new_selection/" + name + suffix).c_str(),
+                                             [=](benchmark::State& st) { BM_new_selection<Method>(st, level, roi_percent); });
+      for(auto* b : {f, n})
+      {
+        b->Unit(benchmark::kMillisecond);
+        if(level > 0)   // as the preprocess case: the first call of its process at 416k
+          b->Iterations(level > 1 ? 1 : 2);
+      }
+    }
     if(level > 1)   // at least 2 s of iterations (Google Benchmark's default, 0.5 s, timed one at 416k)
       i->MinTime(2.0);
   }
