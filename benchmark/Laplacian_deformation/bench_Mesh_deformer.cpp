@@ -458,16 +458,20 @@ void BM_preprocess(benchmark::State& state, int level, int roi_percent)
   state.counters["roi"] = double(s.roi.size());
 }
 
-// What a user waits for when a new mesh meets its first (small) selection: the deformer's
-// constructor, the insertion of the ROI and the handle, and the first preprocess(). CGAL's
-// constructor does work proportional to the mesh (it computes the weight of every halfedge of the
-// mesh), which BM_preprocess leaves out; ours keeps per-vertex arrays and the rest positions.
+// What a user waits for on a small selection, two cases:
+// - first use (`again` = false): a new mesh meets its first selection. Timed: the deformer's
+//   constructor, the insertion of the ROI and the handle, and the first preprocess(). CGAL's
+//   constructor does work proportional to the mesh (it computes the weight of every halfedge of
+//   the mesh), which BM_preprocess leaves out; ours keeps per-vertex arrays and the rest positions.
+// - a new selection (`again` = true; the editor's case: the user selects again): the highest
+//   vertices were selected and preprocessed; timed: the ROI and the controls cleared, a selection
+//   of the same size at the bottom of the mesh inserted, and preprocess().
 // The copy of the mesh and the destruction of the deformer are not timed.
 template <class Method>
-void BM_first_use(benchmark::State& state, int level, int roi_percent)
+void BM_selection(benchmark::State& state, int level, int roi_percent, bool again)
 {
   const Mesh& base = armadillo(level);
-  const Selection s = select(base, roi_percent);
+  const Selection first = select(base, roi_percent), s = again ? select(base, roi_percent, true) : first;
   last_factor = Factor_record();
   const Memory_probe memory;
   for(auto _ : state)
@@ -475,42 +479,20 @@ void BM_first_use(benchmark::State& state, int level, int roi_percent)
     state.PauseTiming();
     Mesh m = base;
     std::optional<typename Method::Deformer> d;
-    state.ResumeTiming();
-    d.emplace(m);
-    Method::insert(*d, s);
-    if(!d->preprocess())
-      state.SkipWithError("preprocess failed");
-    state.PauseTiming();
-    d.reset();
-    state.ResumeTiming();
-  }
-  memory.report(state);
-  report_factor(state);
-  state.counters["vertices"] = double(num_vertices(base));
-  state.counters["roi"] = double(s.roi.size());
-}
-
-// A new selection on a mesh the deformer already knows (the editor's case: the user selects
-// again): the highest vertices were selected and preprocessed; timed: the ROI and the controls
-// cleared, a selection of the same size at the bottom of the mesh inserted, and preprocess().
-template <class Method>
-void BM_new_selection(benchmark::State& state, int level, int roi_percent)
-{
-  const Mesh& base = armadillo(level);
-  const Selection first = select(base, roi_percent), s = select(base, roi_percent, true);
-  last_factor = Factor_record();
-  const Memory_probe memory;
-  for(auto _ : state)
-  {
-    state.PauseTiming();
-    Mesh m = base;
-    std::optional<typename Method::Deformer> d;
-    d.emplace(m);
-    Method::insert(*d, first);
-    if(!d->preprocess())
-      state.SkipWithError("preprocess failed");
-    state.ResumeTiming();
-    d->clear_roi_vertices();
+    if(again)
+    {
+      d.emplace(m);
+      Method::insert(*d, first);
+      if(!d->preprocess())
+        state.SkipWithError("preprocess failed");
+      state.ResumeTiming();
+      d->clear_roi_vertices();
+    }
+    else
+    {
+      state.ResumeTiming();
+      d.emplace(m);
+    }
     Method::insert(*d, s);
     if(!d->preprocess())
       state.SkipWithError("preprocess failed");
@@ -588,12 +570,10 @@ void register_method(const std::string& name, int level)
       p->Iterations(level > 1 ? 1 : 2);
     if(roi_percent < 98)   // a selection small against the mesh: what its first use costs
     {
-      auto* f = benchmark::RegisterBenchmark(("first_use/" + name + suffix).c_str(),
-                                             [=](benchmark::State& st) { BM_first_use<Method>(st, level, roi_percent); });
-      auto* n = benchmark::RegisterBenchmark(("new_selection/" + name + suffix).c_str(),
-                                             [=](benchmark::State& st) { BM_new_selection<Method>(st, level, roi_percent); });
-      for(auto* b : {f, n})
+      for(bool again : {false, true})
       {
+        auto* b = benchmark::RegisterBenchmark(((again ? "new_selection/" : "first_use/") + name + suffix).c_str(),
+                                               [=](benchmark::State& st) { BM_selection<Method>(st, level, roi_percent, again); });
         b->Unit(benchmark::kMillisecond);
         if(level > 0)   // as the preprocess case: the first call of its process at 416k
           b->Iterations(level > 1 ? 1 : 2);
