@@ -3,7 +3,8 @@
 # built by the sanitizer stage in $1-asan with clang (built here if that stage did not run), each
 # run ${FUZZ_SECONDS:-20} s from the committed seed corpus (a scratch copy: the committed corpus is
 # not modified), the three at once (libFuzzer runs one process per target: on 2 cores the stage
-# takes 20 s instead of 60). A crash, a sanitizer finding or a violated property fails the stage.
+# takes 20 s instead of 60, each target getting about two thirds of a core, so fewer runs each).
+# A crash, a sanitizer finding or a violated property fails the stage.
 #   usage: scripts/test.d/50-fuzz-smoke.sh <main build folder>
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
