@@ -12,7 +12,9 @@
 // first_use (roi_10pct and roi_1pct): the constructor, the insertions and the first preprocess()
 // timed together (CGAL's constructor computes the weights of every halfedge of the mesh);
 // new_selection: a second selection of the same size (the lowest vertices) on the same deformer,
-// the ROI cleared, the new one inserted and preprocess() timed.
+// the ROI cleared, the new one inserted and preprocess() timed. No preprocess case times the copy
+// of the mesh or the destruction of the deformer and of the copy (before 2026-12-07 the preprocess
+// case timed both destructions).
 //
 //   bench_Mesh_deformer [--levels=0,1] [Google Benchmark flags, e.g. --benchmark_format=json]
 //
@@ -394,7 +396,7 @@ Selection select(const Mesh& m, int roi_percent, bool lowest = false)
                     moved = roi_percent > 1 ? n / 100 : n / 1000;
   s.roi.assign(by_height.end() - long(in_roi), by_height.end());
   s.handle.assign(by_height.end() - long(moved), by_height.end());
-  s.height = m.point(by_height.back()).y() - m.point(by_height.front()).y();
+  s.height = std::abs(m.point(by_height.back()).y() - m.point(by_height.front()).y());
   return s;
 }
 
@@ -435,69 +437,59 @@ struct Cgal_arap
   }
 };
 
-template <class Method>
-void BM_preprocess(benchmark::State& state, int level, int roi_percent)
-{
-  const Mesh& base = armadillo(level);
-  const Selection s = select(base, roi_percent);
-  last_factor = Factor_record();
-  const Memory_probe memory;
-  for(auto _ : state)
-  {
-    state.PauseTiming();
-    Mesh m = base;
-    typename Method::Deformer d(m);
-    Method::insert(d, s);
-    state.ResumeTiming();
-    if(!d.preprocess())
-      state.SkipWithError("preprocess failed");
-  }
-  memory.report(state);
-  report_factor(state);
-  state.counters["vertices"] = double(num_vertices(base));
-  state.counters["roi"] = double(s.roi.size());
-}
+// The preprocess cases. None times the copy of the mesh nor the destruction of the deformer and
+// of the copy.
+// - preprocess: preprocess() alone, on a deformer constructed for the case with the selection
+//   inserted.
+// What a user waits for on a small selection:
+// - first_use: a new mesh meets its first selection. Timed: the deformer's constructor, the
+//   insertion of the ROI and the handle, and the first preprocess(). CGAL's constructor does work
+//   proportional to the mesh (it computes the weight of every halfedge of the mesh), which the
+//   preprocess case leaves out; ours keeps per-vertex arrays and the rest positions.
+// - new_selection (the editor's case: the user selects again): the highest vertices were selected
+//   and preprocessed; timed: the ROI and the controls cleared, a selection of the same size at the
+//   bottom of the mesh inserted, and preprocess().
+enum class Preprocess_case { preprocess, first_use, new_selection };
 
-// What a user waits for on a small selection, two cases:
-// - first use (`again` = false): a new mesh meets its first selection. Timed: the deformer's
-//   constructor, the insertion of the ROI and the handle, and the first preprocess(). CGAL's
-//   constructor does work proportional to the mesh (it computes the weight of every halfedge of
-//   the mesh), which BM_preprocess leaves out; ours keeps per-vertex arrays and the rest positions.
-// - a new selection (`again` = true; the editor's case: the user selects again): the highest
-//   vertices were selected and preprocessed; timed: the ROI and the controls cleared, a selection
-//   of the same size at the bottom of the mesh inserted, and preprocess().
-// The copy of the mesh and the destruction of the deformer are not timed.
 template <class Method>
-void BM_selection(benchmark::State& state, int level, int roi_percent, bool again)
+void BM_preprocess(benchmark::State& state, int level, int roi_percent, Preprocess_case what)
 {
   const Mesh& base = armadillo(level);
+  const bool again = what == Preprocess_case::new_selection;
   const Selection first = select(base, roi_percent), s = again ? select(base, roi_percent, true) : first;
   last_factor = Factor_record();
   const Memory_probe memory;
   for(auto _ : state)
   {
     state.PauseTiming();
-    Mesh m = base;
+    std::optional<Mesh> m(base);
     std::optional<typename Method::Deformer> d;
-    if(again)
+    if(what != Preprocess_case::first_use)
     {
-      d.emplace(m);
+      d.emplace(*m);
       Method::insert(*d, first);
-      if(!d->preprocess())
-        state.SkipWithError("preprocess failed");
-      state.ResumeTiming();
+      if(again && !d->preprocess())
+      {
+        state.SkipWithError("preprocess failed");   // no timer call after it
+        break;
+      }
+    }
+    state.ResumeTiming();
+    if(what == Preprocess_case::first_use)
+      d.emplace(*m);
+    else if(again)
       d->clear_roi_vertices();
-    }
-    else
-    {
-      state.ResumeTiming();
-      d.emplace(m);
-    }
-    Method::insert(*d, s);
-    if(!d->preprocess())
-      state.SkipWithError("preprocess failed");
+    if(what != Preprocess_case::preprocess)
+      Method::insert(*d, s);
+    const bool ok = d->preprocess();
     state.PauseTiming();
     d.reset();
+    m.reset();
+    if(!ok)
+    {
+      state.SkipWithError("preprocess failed");
+      break;
+    }
     state.ResumeTiming();
   }
   memory.report(state);
@@ -560,8 +552,9 @@ void register_method(const std::string& name, int level)
   for(int roi_percent : {98, 10, 1})
   {
     const std::string suffix = "/armadillo_loop" + std::to_string(level) + (roi_percent == 98 ? "/all_but_2pct" : roi_percent == 10 ? "/roi_10pct" : "/roi_1pct");
-    auto* p = benchmark::RegisterBenchmark(("preprocess/" + name + suffix).c_str(),
-                                           [=](benchmark::State& st) { BM_preprocess<Method>(st, level, roi_percent); });
+    auto* p = benchmark::RegisterBenchmark(("preprocess/" + name + suffix).c_str(), [=](benchmark::State& st) {
+      BM_preprocess<Method>(st, level, roi_percent, Preprocess_case::preprocess);
+    });
     auto* i = benchmark::RegisterBenchmark(("iteration/" + name + suffix).c_str(),
                                            [=](benchmark::State& st) { BM_iteration<Method>(st, level, roi_percent); });
     p->Unit(benchmark::kMillisecond);
@@ -570,10 +563,12 @@ void register_method(const std::string& name, int level)
       p->Iterations(level > 1 ? 1 : 2);
     if(roi_percent < 98)   // a selection small against the mesh: what its first use costs
     {
-      for(bool again : {false, true})
+      for(Preprocess_case what : {Preprocess_case::first_use, Preprocess_case::new_selection})
       {
-        auto* b = benchmark::RegisterBenchmark(((again ? "new_selection/" : "first_use/") + name + suffix).c_str(),
-                                               [=](benchmark::State& st) { BM_selection<Method>(st, level, roi_percent, again); });
+        const std::string kind = what == Preprocess_case::first_use ? "first_use/" : "new_selection/";
+        auto* b = benchmark::RegisterBenchmark((kind + name + suffix).c_str(), [=](benchmark::State& st) {
+          BM_preprocess<Method>(st, level, roi_percent, what);
+        });
         b->Unit(benchmark::kMillisecond);
         if(level > 0)   // as the preprocess case: the first call of its process at 416k
           b->Iterations(level > 1 ? 1 : 2);

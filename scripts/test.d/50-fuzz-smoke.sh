@@ -15,6 +15,8 @@ configure_sanitizer_build "$build"
 cmake --build "$asan" --target fuzz_botsch08 fuzz_deformer fuzz_server -j"$(nproc)"
 targets=(botsch08 deformer server)
 pids=()
+# a stage that stops early (set -e) stops the fuzzers it started
+trap '[ ${#pids[@]} -eq 0 ] || kill "${pids[@]}" 2>/dev/null || true' EXIT
 for target in "${targets[@]}"; do
   work=$asan/smoke-$target
   rm -rf "$work" && mkdir -p "$work/corpus"
