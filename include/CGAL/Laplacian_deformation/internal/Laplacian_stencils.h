@@ -434,12 +434,13 @@ inline Eigen::SparseMatrix<double> combination_matrix(const Laplacian_stencils& 
 }
 
 // The terms of row a of D = L_w P (see laplacian_operator()) merged by vertex: f(v, D(a, v)) in
-// increasing v, exact zeros dropped; `terms` is scratch. The terms, in the order neighbours then
+// increasing v (in no particular order with `Sorted` = false, for a caller that only counts them:
+// the sums do not depend on it), exact zeros dropped; `terms` is scratch. The terms, in the order neighbours then
 // x_a, are summed per vertex in that order (0 + t1 + t2 + ...: what a stable sort by vertex and a
 // sum in sorted order give, bitwise) into a list of the distinct vertices, which is then sorted: a
 // row has a few dozen terms on a dozen vertices, so that sorting the distinct vertices only (and
 // finding a term's vertex by a scan of them) moves far fewer entries than sorting every term.
-template <class F>
+template <bool Sorted = true, class F>
 void laplacian_operator_row(const Laplacian_stencils& s, std::size_t a,
                             std::vector<std::pair<std::size_t, double>>& terms, const F& f)
 {
@@ -465,14 +466,15 @@ void laplacian_operator_row(const Laplacian_stencils& s, std::size_t a,
     for(std::size_t j = s.combination_start[a]; j < s.combination_start[a + 1]; ++j)
       add(s.combination_vertex[j], diagonal * s.combination_coefficient[j]);
   // an insertion sort of the distinct vertices (std::sort would not be faster on a dozen)
-  for(std::size_t i = 1; i < terms.size(); ++i)
-  {
-    const std::pair<std::size_t, double> t = terms[i];
-    std::size_t j = i;
-    for(; j > 0 && terms[j - 1].first > t.first; --j)
-      terms[j] = terms[j - 1];
-    terms[j] = t;
-  }
+  if constexpr(Sorted)
+    for(std::size_t i = 1; i < terms.size(); ++i)
+    {
+      const std::pair<std::size_t, double> t = terms[i];
+      std::size_t j = i;
+      for(; j > 0 && terms[j - 1].first > t.first; --j)
+        terms[j] = terms[j - 1];
+      terms[j] = t;
+    }
   for(const std::pair<std::size_t, double>& e : terms)
     if(e.second != 0)
       f(e.first, e.second);
@@ -499,7 +501,7 @@ inline Eigen::SparseMatrix<double, Eigen::RowMajor> laplacian_operator(const Lap
     for(std::size_t a = begin; a < end; ++a)
     {
       Index count = 0;
-      laplacian_operator_row(s, a, terms, [&count](std::size_t, double) { ++count; });
+      laplacian_operator_row<false>(s, a, terms, [&count](std::size_t, double) { ++count; });   // no sort to count
       outer[a + 1] = count;
     }
   }, 1024);
