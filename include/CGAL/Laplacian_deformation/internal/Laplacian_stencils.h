@@ -435,11 +435,12 @@ inline Eigen::SparseMatrix<double> combination_matrix(const Laplacian_stencils& 
 
 // The terms of row a of D = L_w P (see laplacian_operator()) merged by vertex: f(v, D(a, v)) in
 // increasing v (in no particular order with `Sorted` = false, for a caller that only counts them:
-// the sums do not depend on it), exact zeros dropped; `terms` is scratch. The terms, in the order neighbours then
-// x_a, are summed per vertex in that order (0 + t1 + t2 + ...: what a stable sort by vertex and a
-// sum in sorted order give, bitwise) into a list of the distinct vertices, which is then sorted: a
-// row has a few dozen terms on a dozen vertices, so that sorting the distinct vertices only (and
-// finding a term's vertex by a scan of them) moves far fewer entries than sorting every term.
+// the sums do not depend on it), exact zeros dropped; `terms` is scratch. The terms, in the order
+// neighbours then x_a, are summed per vertex in that order (0 + t1 + t2 + ...: what a stable sort
+// by vertex and a sum in sorted order give, bitwise) into a list of the distinct vertices, which is
+// then sorted: a row has a few dozen terms on a dozen vertices, so that sorting the distinct
+// vertices only (and finding a term's vertex by a scan of them) moves far fewer entries than
+// sorting every term.
 template <bool Sorted = true, class F>
 void laplacian_operator_row(const Laplacian_stencils& s, std::size_t a,
                             std::vector<std::pair<std::size_t, double>>& terms, const F& f)
