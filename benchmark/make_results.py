@@ -674,7 +674,7 @@ p('`build/benchmark/Laplacian_deformation/bench_Mesh_deformer --levels=%s`, each
   'once; an iteration case at level 2 runs at least 2 s, at the smaller levels Google Benchmark\'s default 0.5 s), next to the CPU time of the main thread alone (not '
   'counting TBB\'s or BLAS\'s worker threads; far below the wall time when the process waited for a core); '
   'the iteration split (local step / right-hand side / solve) in ms per iteration; memory: '
-  'peak MB = VmHWM of the case\'s process (reset at the start of its last call; see above); factor: the '
+  'peak MB = VmHWM of the case\'s process (reset at the start of its last call; see above; the preprocess, first_use and new_selection cases reset it again just before their timed part, so that the fresh memory of their rows above is what the timed part touched, not the copy of the mesh made for it); factor: the '
   'analyse + factorise time inside preprocess (ms), the bytes of L (MB) and the factorisation\'s rate (GFlop/s).\n' % levels)
 if benchmarks:
     p('| benchmark | vertices | ROI | time ms | main-thread CPU ms | timed iterations | local / rhs / solve ms | peak MB | factor ms / MB (bandwidth GB/s) |')

@@ -28,7 +28,10 @@
 //   process kept from earlier calls if larger; extra_mb = peak_mb - base_mb (small when earlier calls
 //   left their freed memory in the process). peak_reset = 1 when the reset worked. Freed memory of
 //   other cases may stay in the process too: run_harness.sh runs every case in its own process
-//   (--benchmark_filter) and reports peak_mb.
+//   (--benchmark_filter) and reports peak_mb. The preprocess, first_use and new_selection cases
+//   reset again inside each call, just before its timed part (the mesh copy and, but for first_use,
+//   the deformer with its first selection are ready): their base_mb and extra_mb are the memory
+//   the timed part itself touched, not the copy of the mesh made for it.
 // - ours only (CHOLMOD build): factor_ms (CHOLMOD analyse + factorise inside preprocess()),
 //   factor_mb (bytes of the supernodal factor L: values and row indices, read once by the forward
 //   and once by the backward substitution), factor_lnz (nonzeros of L), n (unknowns per coordinate).
@@ -101,6 +104,11 @@ struct Memory_probe
 {
   bool reset = reset_peak_memory();
   double base = proc_status_mb("VmRSS");
+  void restart()   // the peak and the base from now on
+  {
+    reset = reset_peak_memory();
+    base = proc_status_mb("VmRSS");
+  }
   void report(benchmark::State& state) const
   {
     const double peak = proc_status_mb("VmHWM");
@@ -458,7 +466,7 @@ void BM_preprocess(benchmark::State& state, int level, int roi_percent, Preproce
   const bool again = what == Preprocess_case::new_selection;
   const Selection first = select(base, roi_percent), s = again ? select(base, roi_percent, true) : first;
   last_factor = Factor_record();
-  const Memory_probe memory;
+  Memory_probe memory;
   for(auto _ : state)
   {
     state.PauseTiming();
@@ -474,6 +482,7 @@ void BM_preprocess(benchmark::State& state, int level, int roi_percent, Preproce
         break;
       }
     }
+    memory.restart();   // the timed part's own memory (not the mesh copy's)
     state.ResumeTiming();
     if(what == Preprocess_case::first_use)
       d.emplace(*m);

@@ -13,6 +13,9 @@
 #include <CGAL/property_map.h>
 
 #include <algorithm>
+#include <bitset>
+#include <cstdint>
+#include <random>
 #include <cstring>
 #include <set>
 #include <stdexcept>
@@ -402,24 +405,34 @@ TEST(LaplacianStencils, IndicesAre32BitAndOversizedMeshesAreRefused)
 
 // The assembly on TBB's threads (stencils, operator, delta = D p_rest: each in two passes that
 // count then write in place) gives the sequential arrays bit for bit, on a mesh large enough for
-// many blocks, for the whole mesh and for a region.
+// many blocks, for the whole mesh and for regions: a large one (the walk over every node), and two
+// small ones (the walk from the region, in blocks of 1024; the smaller one also finds its local
+// indices by bit ranks, the larger one in several blocks per phase).
 TEST(LaplacianStencils, ParallelAssemblyEqualsSequentialBitwise)
 {
   namespace LDI = CGAL::Laplacian_deformation::internal;
-  const Surface_mesh m = to_mesh<Surface_mesh>(icosphere_soup(5));
+  const Surface_mesh m = to_mesh<Surface_mesh>(icosphere_soup(6));
   const auto vim = CGAL::get_initialized_vertex_index_map(m);
   const std::size_t n = num_vertices(m);
-  ASSERT_GT(n, 10000u);
+  ASSERT_GT(n, 40000u);
   std::vector<Eigen::Vector3d> p(n);
   for(auto v : vertices(m))
   {
     const auto& q = get(CGAL::vertex_point, m, v);
     p[get(vim, v)] = Eigen::Vector3d(q.x(), q.y(), q.z());
   }
-  std::vector<boost::graph_traits<Surface_mesh>::vertex_descriptor> region;
+  std::vector<boost::graph_traits<Surface_mesh>::vertex_descriptor> region, small, smaller;
   for(auto v : vertices(m))
-    if(get(vim, v) % 3 != 0 || get(vim, v) < n / 4)
+  {
+    const std::size_t i = get(vim, v);
+    if(i % 3 != 0 || i < n / 4)
       region.push_back(v);
+    if(i >= n / 3 && i < n / 3 + 2048)
+      small.push_back(v);
+    if(i >= n / 2 && i < n / 2 + 400)
+      smaller.push_back(v);
+  }
+  ASSERT_LT(16 * small.size(), n);   // the walk from the region
   auto same_stencils = [](const LDI::Laplacian_stencils& a, const LDI::Laplacian_stencils& b) {
     EXPECT_EQ(a.number_of_nodes, b.number_of_nodes);
     EXPECT_EQ(a.combination_start, b.combination_start);
@@ -442,20 +455,26 @@ TEST(LaplacianStencils, ParallelAssemblyEqualsSequentialBitwise)
   auto check = [&](auto rep) {
     typedef typename decltype(rep)::template Nodes<Surface_mesh, boost::property_map<Surface_mesh, CGAL::vertex_point_t>::const_type> Nodes;
     const Nodes nodes(m, get(CGAL::vertex_point, m));
-    for(int local = 0; local < 2; ++local)
+    for(int local = 0; local < 4; ++local)
     {
+      const auto& r = local == 1 ? region : local == 2 ? small : smaller;
+      SCOPED_TRACE("region " + std::to_string(local) + " (0: the whole mesh)");
       LDI::Laplacian_stencils s[2];
       for(int parallel = 0; parallel < 2; ++parallel)
-        s[parallel] = local ? LDI::laplacian_stencils_near(nodes, n, vim, region, parallel == 1)
+        s[parallel] = local ? LDI::laplacian_stencils_near(nodes, n, vim, r, parallel == 1)
                             : LDI::laplacian_stencils(nodes, n, vim, parallel == 1);
       same_stencils(s[0], s[1]);
       EXPECT_GT(s[0].fan.size(), 0u);
+      if(local >= 2)
+      {
+        EXPECT_LT(s[0].number_of_nodes, nodes.number_of_nodes() / 4);   // only the region's neighbourhood
+      }
       std::vector<Eigen::Vector3d> x;
       LDI::node_positions(s[0], p, x);
       LDI::compute_weights(s[0], x, LD::Cotangent_weights(), Kernel());
       const Eigen::SparseMatrix<double, Eigen::RowMajor> d = LDI::laplacian_operator(s[0]);
       same_operator(d, LDI::laplacian_operator(s[0], true));
-      EXPECT_GT(d.nonZeros(), Eigen::Index(4 * n));
+      EXPECT_GT(d.nonZeros(), Eigen::Index(4 * s[0].number_of_nodes / 3));
       const Eigen::MatrixX3d delta = LDI::operator_times_positions(d, p);
       EXPECT_TRUE(delta == LDI::operator_times_positions(d, p, true));
       EXPECT_GT(delta.norm(), 0.);
@@ -463,4 +482,34 @@ TEST(LaplacianStencils, ParallelAssemblyEqualsSequentialBitwise)
   };
   check(LD::Vertex_based_representation());
   check(LD::Edge_based_representation());
+}
+
+// The two helpers of the region walk: the radix sort by node index gives std::sort's order (keys
+// distinct, up to 2^32), and the bit count is std::bitset's on every kind of word.
+TEST(LaplacianStencils, RadixSortAndBitCountHelpers)
+{
+  namespace LDI = CGAL::Laplacian_deformation::internal;
+  std::mt19937_64 random(7);
+  for(std::size_t bound : {std::size_t(1), std::size_t(2), std::size_t(255), std::size_t(256), std::size_t(257),
+                           std::size_t(70000), std::size_t(1) << 24, std::size_t(1) << 32})
+  {
+    std::set<std::size_t> keys;
+    const std::size_t count = (std::min)(bound, std::size_t(5000));
+    while(keys.size() < count)
+      keys.insert(std::size_t(random() % bound));
+    std::vector<std::pair<std::size_t, int>> entries;
+    for(std::size_t k : keys)
+      entries.emplace_back(k, int(k % 1000));
+    std::shuffle(entries.begin(), entries.end(), random);
+    std::vector<std::pair<std::size_t, int>> expected = entries;
+    std::sort(expected.begin(), expected.end());
+    LDI::sort_by_index(entries, bound);
+    EXPECT_EQ(entries, expected) << "bound " << bound;
+  }
+  std::vector<std::uint64_t> words = {0, 1, ~std::uint64_t(0), std::uint64_t(1) << 63, 0x5555555555555555ull,
+                                      0xaaaaaaaaaaaaaaaaull, 0x8000000000000001ull};
+  for(int k = 0; k < 1000; ++k)
+    words.push_back(random() & random());
+  for(std::uint64_t w : words)
+    EXPECT_EQ(LDI::population_count(w), std::bitset<64>(w).count()) << w;
 }

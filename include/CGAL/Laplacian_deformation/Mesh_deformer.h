@@ -880,8 +880,11 @@ private:
     // the faces around the ROI's vertices, each once: from its ROI vertex of smallest index. The
     // ROI is cut into chunks (walked on TBB's threads with Parallel_tag), each collecting its faces
     // in order; the chunks are then joined in order (the same faces in the same order either way).
+    // At least eight chunks unless a chunk would be smaller than 256 vertices: the walk's scattered
+    // reads of the mesh are its cost, also on a small ROI of a large mesh.
     const bool parallel = internal::runs_in_parallel<ConcurrencyTag>();
-    const std::size_t chunk = 4096, chunks = (m_roi.size() + chunk - 1) / chunk;
+    const std::size_t chunk = (std::max)(std::size_t(256), (std::min)(std::size_t(4096), (m_roi.size() + 7) / 8)),
+                      chunks = (m_roi.size() + chunk - 1) / chunk;
     struct Faces
     {
       std::vector<std::size_t> start;           // the end of each face in `vertex`

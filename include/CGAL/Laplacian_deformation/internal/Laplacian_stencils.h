@@ -18,7 +18,6 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <bitset>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -220,6 +219,36 @@ Laplacian_stencils laplacian_stencils(const Nodes& nodes, std::size_t number_of_
                         [&nodes](const node_descriptor& b) { return nodes.index(b); }, parallel);
 }
 
+// The number of bits set in `x`, without a call: the default compile flags have no popcnt
+// instruction, and std::bitset::count() then calls a library function per word.
+inline std::size_t population_count(std::uint64_t x)
+{
+  x = x - ((x >> 1) & 0x5555555555555555ull);
+  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+  return std::size_t((x * 0x0101010101010101ull) >> 56);
+}
+
+// Sorts `entries` by their first member (distinct keys below `bound`): a least-significant-digit
+// radix sort, one pass per 8 bits of `bound` (stable; the same order as a comparison sort on the
+// keys, which are distinct).
+template <class Entry>
+void sort_by_index(std::vector<Entry>& entries, std::size_t bound)
+{
+  std::vector<Entry> other(entries.size());
+  for(unsigned shift = 0; shift < 64 && (bound - 1) >> shift != 0; shift += 8)
+  {
+    std::size_t start[257] = {};
+    for(const Entry& e : entries)
+      ++start[((e.first >> shift) & 255) + 1];
+    for(int d = 0; d < 256; ++d)
+      start[d + 1] += start[d];
+    for(const Entry& e : entries)
+      other[start[(e.first >> shift) & 255]++] = e;
+    entries.swap(other);
+  }
+}
+
 // The stencils of the nodes near the mesh vertices `region` (needs `incident_nodes()`, see
 // has_incident_nodes): the rows are the nodes whose combination involves a vertex of `region` or
 // one of whose neighbours' does (every row of D = L_w P that touches `region`), with their cells;
@@ -231,7 +260,7 @@ Laplacian_stencils laplacian_stencils(const Nodes& nodes, std::size_t number_of_
 // neighbourhood, not to the mesh (but for one byte per node of the mesh, zeroed, to meet each
 // node once, and a bit per node with a count per 64 nodes to find the local indices; when the
 // region is a large part of the mesh, a walk over all nodes, a descriptor per node and a table of
-// the local indices, on TBB's threads with `parallel`).
+// the local indices). Both walks run on TBB's threads with `parallel`.
 template <class Nodes, class VertexIndexMap, class VertexRange>
 Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t number_of_vertices,
                                            const VertexIndexMap& vertex_index, const VertexRange& region,
@@ -295,29 +324,62 @@ Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t numbe
   else
   {
     // each node once (a byte per node of the mesh marks the nodes met): 1 for the rows (the
-    // region's nodes and their neighbours), 2 for the rows' other neighbours
+    // region's nodes, then their other neighbours), 2 for the rows' other neighbours. Each phase
+    // walks its list in blocks (on TBB's threads with `parallel` and a random-access region): a
+    // block lists the nodes it meets that no earlier phase marked (the marks are only read
+    // meanwhile); the lists are then joined in block order, each node kept at its first occurrence,
+    // with the descriptor met there. The nodes, their descriptors (a node may have several, such
+    // as the two halfedges of an edge, and its cell's order follows the one kept) and their order
+    // are a sequential walk's, whatever the threads.
     std::vector<unsigned char> mark(nodes.number_of_nodes(), 0);
     std::vector<Entry> all;
-    auto meet = [&](const node_descriptor& a, unsigned char level) {
-      const std::size_t g = nodes.index(a);
-      if(!mark[g])
-      {
-        mark[g] = level;
-        all.emplace_back(g, a);
-      }
-    };
     all.reserve((std::min)(nodes.number_of_nodes(), 8 * region_size + 64));
-    for(const auto& v : region)
-      nodes.incident_nodes(v, [&](const node_descriptor& a) { meet(a, 1); });
+    constexpr std::size_t block = 1024;
+    // f(i, meet) for i in [first, last); the nodes met are kept with `level`
+    auto walk = [&](std::size_t first, std::size_t last, bool in_parallel, unsigned char level, const auto& f) {
+      const std::size_t blocks = (last - first + block - 1) / block;
+      std::vector<std::vector<Entry>> found(blocks);
+      for_each_block(blocks, in_parallel, [&](std::size_t b0, std::size_t b1) {
+        for(std::size_t b = b0; b < b1; ++b)
+        {
+          std::vector<Entry>& list = found[b];
+          auto meet = [&](const node_descriptor& a) {
+            const std::size_t g = nodes.index(a);
+            if(mark[g] == 0)
+              list.emplace_back(g, a);
+          };
+          for(std::size_t i = first + b * block; i < (std::min)(last, first + (b + 1) * block); ++i)
+            f(i, meet);
+        }
+      }, 1);
+      for(const std::vector<Entry>& list : found)
+        for(const Entry& e : list)
+          if(mark[e.first] == 0)
+          {
+            mark[e.first] = level;
+            all.push_back(e);
+          }
+    };
+    if constexpr(std::is_base_of<std::random_access_iterator_tag, Region_category>::value)
+      walk(0, region_size, parallel, 1, [&](std::size_t i, const auto& meet) {
+        nodes.incident_nodes(*(region.begin() + std::ptrdiff_t(i)), meet);
+      });
+    else
+      walk(0, 1, false, 1, [&](std::size_t, const auto& meet) {
+        for(const auto& v : region)
+          nodes.incident_nodes(v, meet);
+      });
     const std::size_t number_of_seeds = all.size();
-    for(std::size_t i = 0; i < number_of_seeds; ++i)
+    walk(0, number_of_seeds, parallel, 1, [&](std::size_t i, const auto& meet) {
       for(node_descriptor b : nodes.neighbors(all[i].second))
-        meet(b, 1);
+        meet(b);
+    });
     const std::size_t number_of_rows = all.size();
-    for(std::size_t i = number_of_seeds; i < number_of_rows; ++i)
+    walk(number_of_seeds, number_of_rows, parallel, 2, [&](std::size_t i, const auto& meet) {
       for(node_descriptor b : nodes.neighbors(all[i].second))
-        meet(b, 2);
-    std::sort(all.begin(), all.end(), [](const Entry& x, const Entry& y) { return x.first < y.first; });
+        meet(b);
+    });
+    sort_by_index(all, nodes.number_of_nodes());
     is_row.assign(all.size(), 0);
     sequence.reserve(all.size());
     global_node.reserve(all.size());
@@ -352,7 +414,7 @@ Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t numbe
     for(std::size_t w = 0; w < words; ++w)
     {
       listed_before[w] = count;
-      count += static_cast<Stencil_index>(std::bitset<64>(listed[w]).count());
+      count += static_cast<Stencil_index>(population_count(listed[w]));
     }
   }
   auto local_of = [&](const node_descriptor& b) -> std::size_t {
@@ -360,7 +422,7 @@ Laplacian_stencils laplacian_stencils_near(const Nodes& nodes, std::size_t numbe
     if(!table.empty())
       return table[g];
     const std::uint64_t below = listed[g / 64] & ((std::uint64_t(1) << (g % 64)) - 1);
-    return std::size_t(listed_before[g / 64]) + std::bitset<64>(below).count();
+    return std::size_t(listed_before[g / 64]) + population_count(below);
   };
   Laplacian_stencils s = build_stencils(nodes, number_of_vertices, vertex_index, sequence,
                                         [&is_row](std::size_t i) { return is_row[i] != 0; }, local_of, parallel);
