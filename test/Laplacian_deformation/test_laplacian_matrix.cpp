@@ -407,7 +407,7 @@ TEST(LaplacianStencils, IndicesAre32BitAndOversizedMeshesAreRefused)
 // count then write in place) gives the sequential arrays bit for bit, on a mesh large enough for
 // many blocks, for the whole mesh and for regions: a large one (the walk over every node), and two
 // small ones (the walk from the region, in blocks of 1024; the smaller one also finds its local
-// indices by bit ranks, the larger one in several blocks per phase).
+// indices by bit ranks, the larger one has several blocks in the walk's first two phases).
 TEST(LaplacianStencils, ParallelAssemblyEqualsSequentialBitwise)
 {
   namespace LDI = CGAL::Laplacian_deformation::internal;
