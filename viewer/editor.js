@@ -299,7 +299,8 @@ canvas.addEventListener('pointerdown', (event) => {
   if(state.mode !== 'drag') { gesture = { kind: 'paint' }; paint(event); return; }
   const waiting = { kind: 'wait', last: null, released: false };
   gesture = waiting;
-  view.setInteracting(true);          // until the gesture ends (see endGesture)
+  // the lighter frames of software WebGL (setInteracting) start with the drag, once the selection
+  // is ready: switching at the press drew a frame on the CPU while the server prepared the selection
   const abandon = () => { if(gesture === waiting) { gesture = null; view.setInteracting(false); } };
   state.starting = (async () => {
     try { if(!(await commitSelection())) { abandon(); return; } } catch(e) {
@@ -314,8 +315,8 @@ canvas.addEventListener('pointerdown', (event) => {
     if(!start) { abandon(); return; }
     const g = { kind: event.ctrlKey || event.altKey ? 'rotate' : 'translate', center, normal, start,
                 x: event.clientX, base: state.transform.clone() };
-    gesture = waiting.released ? null : g;
-    if(!gesture) view.setInteracting(false);   // released while the selection was being prepared
+    gesture = waiting.released ? null : g;   // null: released while the selection was being prepared
+    if(gesture) view.setInteracting(true);     // until the gesture ends (see endGesture)
     const transform = waiting.last && gestureTransform(g, waiting.last);
     if(transform) { state.transform = transform; requestDrag(); }
   })();

@@ -1406,6 +1406,51 @@ TEST(MeshDeformer, LanesGatherGivesBitwiseTheCellsGather)
   expect_lanes_path_bitwise_cells_path<LD::Principal_scaled_rotation_transform>(dino);
 }
 
+// Energy tracking off: the same positions, bit for bit, over two deform() calls (the second one
+// continues from the first), with no energies; on by default.
+TEST(MeshDeformer, EnergyTrackingOffGivesTheSamePositionsWithoutEnergies)
+{
+  Surface_mesh dino;
+  ASSERT_TRUE(read_data_mesh("dino.off", dino)) << data_path("dino.off");
+  const vertex_descriptor seed = *std::next(vertices(dino).begin(), 1000);
+  std::map<vertex_descriptor, int> ring{{seed, 0}};
+  std::vector<vertex_descriptor> order(1, seed), handle;
+  for(std::size_t i = 0; i < order.size(); ++i)
+    for(vertex_descriptor w : CGAL::vertices_around_target(halfedge(order[i], dino), dino))
+      if(ring[order[i]] < 10 && ring.emplace(w, ring[order[i]] + 1).second)
+        order.push_back(w);
+  for(vertex_descriptor v : order)
+    if(ring[v] <= 1)
+      handle.push_back(v);
+  Surface_mesh a = dino, b = dino;
+  LD::Mesh_deformer<Surface_mesh, LD::Edge_based_representation> tracked(a), untracked(b);
+  EXPECT_TRUE(tracked.energy_tracking());
+  untracked.set_energy_tracking(false);
+  EXPECT_FALSE(untracked.energy_tracking());
+  for(auto* d : {&tracked, &untracked})
+  {
+    d->insert_roi_vertices(order.begin(), order.end());
+    d->insert_control_vertices(handle.begin(), handle.end());
+    d->rotate(handle.begin(), handle.end(), Eigen::Vector3d(dino.point(seed).x(), dino.point(seed).y(), dino.point(seed).z()),
+              Eigen::Quaterniond(Eigen::AngleAxisd(0.6, Eigen::Vector3d(0.2, 1, 0.1).normalized())));
+  }
+  for(int call = 0; call < 2; ++call)
+  {
+    const LD::Deformation_result ra = tracked.deform(3, 0.), rb = untracked.deform(3, 0.);
+    ASSERT_TRUE(ra);
+    ASSERT_TRUE(rb);
+    EXPECT_EQ(ra.iterations, 3u);
+    EXPECT_EQ(rb.iterations, 3u);
+    EXPECT_EQ(ra.energies.size(), 3u);
+    EXPECT_GT(ra.energy, 0.);
+    EXPECT_TRUE(rb.energies.empty());
+    EXPECT_EQ(rb.energy, 0.);
+    EXPECT_EQ(ra.last_change, rb.last_change) << "call " << call;
+    EXPECT_EQ(positions(a), positions(b)) << "call " << call;
+  }
+  EXPECT_GT(max_distance(positions(a), positions(dino), diagonal(dino)), 1e-3);   // it did deform
+}
+
 // The operator built for the ROI only (the default with the package's representations) gives
 // bitwise the result of the whole mesh's operator: on the dino, for both representations, hard and
 // soft controls, the rotation-aware start and the rigidity rows, through a smaller ROI (the

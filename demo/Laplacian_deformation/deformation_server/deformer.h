@@ -69,8 +69,12 @@ template <class Representation>
 class Deformer_model : public Deformer_interface
 {
 public:
+  // the editor shows no energy: the deformer computes none (a pass over the rows per iteration)
   Deformer_model(Mesh& mesh, const LD::Any_weights& weights, const LD::Any_transform& transform)
-    : m_deformer(mesh, weights, transform) {}
+    : m_deformer(mesh, weights, transform)
+  {
+    m_deformer.set_energy_tracking(false);
+  }
   void insert_roi_vertex(vertex_descriptor v) override { m_deformer.insert_roi_vertex(v); }
   void insert_control_vertex(vertex_descriptor v) override { m_deformer.insert_control_vertex(v); }
   void clear_roi_vertices() override { m_deformer.clear_roi_vertices(); }

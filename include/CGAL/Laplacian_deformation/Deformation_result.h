@@ -98,6 +98,7 @@ struct Deformation_result
   std::size_t iterations = 0;
   /// the energy <code>sum_a |T_a delta_a - D_a p'|^2</code> (plus the soft terms) after each iteration.
   /// Not guaranteed to decrease: the transforms are fitted to the cells, not to this energy.
+  /// Empty when the deformer's energy tracking is off (`Mesh_deformer::set_energy_tracking()`).
   std::vector<double> energies;
   /// the last entry of `energies` (0 if none).
   double energy = 0;

@@ -358,6 +358,15 @@ public:
   void set_rigidity_weight(double weight) { m_rigidity_weight = weight; m_need_preprocess = true; }
   /// the relative weight of the spoke rigidity rows.
   double rigidity_weight() const { return m_rigidity_weight; }
+  /// whether `deform()` computes the energy after each iteration (`Deformation_result::energies`
+  /// and `Deformation_result::energy`; default `true`). The energy is reported, never used: the
+  /// iterations stop on the relative change of the positions. Computing it is a pass over the rows
+  /// of the system, about 7% of an edge-based iteration on the whole 26k-vertex armadillo; an
+  /// interactive caller that does not show it can turn it off (the positions stay the same, bit for
+  /// bit; `energies` is then empty and `energy` 0).
+  void set_energy_tracking(bool on) { m_energy_tracking = on; }
+  /// whether `deform()` computes the energies.
+  bool energy_tracking() const { return m_energy_tracking; }
   /// @}
 
   /// \name Deformation
@@ -455,7 +464,7 @@ public:
     }
     if(!m_core.has_solution() && !apply_start(p))
       return m_last;
-    m_last = m_core.iterate(p, iterations, tolerance, m_diagonal);
+    m_last = m_core.iterate(p, iterations, tolerance, m_diagonal, m_energy_tracking);
     if(m_last)
     {
       for(vertex_descriptor v : m_roi)
@@ -1048,6 +1057,7 @@ private:
   Eigen::MatrixX3d m_rigid_delta;
   std::vector<std::size_t> m_rigid_owner;
   double m_rigidity_weight = 0;
+  bool m_energy_tracking = true;
   std::vector<unsigned char> m_operator_region;   // the ROI the operator was built for (by vertex index)
   std::vector<std::size_t> m_row_nodes;           // the fitted nodes' node indices, increasing
   std::vector<Eigen::Vector3d> m_positions;       // deform()'s positions: fixed vertices at rest

@@ -432,9 +432,10 @@ public:
   // Runs up to `iterations` iterations. `positions` holds every vertex: the known ones at their
   // prescribed positions, the soft controls at their targets, the free ones at their current
   // positions; it is updated in place (the unknowns' entries; on failure they are unspecified),
-  // and on success it holds the solution. `diagonal` scales the change criterion.
+  // and on success it holds the solution. `diagonal` scales the change criterion. Without
+  // `track_energy`, the energy of each iteration is not computed (result.energies stays empty).
   Deformation_result iterate(std::vector<Eigen::Vector3d>& positions, std::size_t iterations,
-                             double tolerance, double diagonal)
+                             double tolerance, double diagonal, bool track_energy = true)
   {
     Deformation_result result;
     const Eigen::Index nr = Eigen::Index(m_rows.size()), nu = Eigen::Index(m_unknowns.size());
@@ -500,7 +501,8 @@ public:
       }
       m_solution = x;
       m_has_solution = true;
-      result.energies.push_back(energy(current, b));
+      if(track_energy)
+        result.energies.push_back(energy(current, b));
       result.last_change = diagonal > 0 ? change / (unit * diagonal) : change / unit;
       ++result.iterations;
       if(result.last_change <= tolerance)
@@ -789,6 +791,7 @@ private:
     for_each_block(m_fit_nodes.size(), [&](std::size_t begin, std::size_t end) {
       batched::Lanes b;
       std::vector<double> spokes(7 * m_max_degree * std::size_t(lanes));
+      std::vector<double> cell(6 * m_max_degree);   // one cell's spokes, contiguous: e then e' per spoke
       Eigen::Matrix3d fitted[lanes];
       for(std::size_t r0 = begin; r0 < end; r0 += std::size_t(lanes))
       {
@@ -803,20 +806,25 @@ private:
         double *rest = spokes.data(), *current = rest + 3 * d * lanes, *weight = current + 3 * d * lanes;
         for(int l = 0; l < m; ++l)
         {
+          // the spokes are gathered into `cell`, then written once, scaled, into the lanes (the
+          // lanes' stride is a cache line: storing them unscaled then scaling them in place cost
+          // a second strided read and write of every coordinate)
+          double* g = cell.data();
           const std::size_t degree = gather_cell(r0 + std::size_t(l), end, [&](std::size_t i, const Eigen::Vector3d& e,
                                                                                 const Eigen::Vector3d& f, double w) {
             for(int c = 0; c < 3; ++c)
             {
-              rest[(3 * i + std::size_t(c)) * lanes + std::size_t(l)] = e[c];
-              current[(3 * i + std::size_t(c)) * lanes + std::size_t(l)] = f[c];
+              g[6 * i + std::size_t(c)] = e[c];
+              g[6 * i + 3 + std::size_t(c)] = f[c];
             }
             weight[i * lanes + std::size_t(l)] = w;
           }, [&](std::size_t n, double unit) {
-            for(std::size_t k = 0; k < 3 * n; ++k)
-            {
-              rest[k * lanes + std::size_t(l)] *= unit;
-              current[k * lanes + std::size_t(l)] *= unit;
-            }
+            for(std::size_t i = 0; i < n; ++i)
+              for(std::size_t c = 0; c < 3; ++c)
+              {
+                rest[(3 * i + c) * lanes + std::size_t(l)] = g[6 * i + c] * unit;
+                current[(3 * i + c) * lanes + std::size_t(l)] = g[6 * i + 3 + c] * unit;
+              }
           });
           b.degree[l] = std::int64_t(degree);
           for(std::size_t i = degree; i < d; ++i)   // past the cell's degree: zeros
