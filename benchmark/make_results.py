@@ -543,7 +543,7 @@ p('From the micro-benchmarks below (`bench_Mesh_deformer --levels=%s`, every cas
   'solver. One iteration = one `deform(1, 0)` (local step, right-hand side, solve). Peak memory = VmHWM of '
   'the process of the iteration case (the case runs alone in its process: load the mesh, copy it, preprocess, '
   'iterate; Google Benchmark may call the case more than once, and the peak is reset through '
-  '/proc/self/clear_refs at the start of each call, so it is the peak of the last call, or the memory kept from the earlier calls if larger). Both methods carry '
+  '/proc/self/clear_refs at the start of each call, after the heap\'s free memory went back to the system (malloc_trim; the base then holds what stays after a first call, such as BLAS\'s buffers), so it is the peak of the last call, or the memory kept from the earlier calls if larger). Both methods carry '
   'the same baseline (the process, the loaded mesh and its copy). %s\n' % (levels, machine_state))
 if bandwidths:
     p('Memory read bandwidth: %s (1 GiB array of 64-bit integers summed; the best is used for the bound).\n' % ', '.join(
