@@ -361,7 +361,7 @@ public:
   /// whether `deform()` computes the energy after each iteration (`Deformation_result::energies`
   /// and `Deformation_result::energy`; default `true`). The energy is reported, never used: the
   /// iterations stop on the relative change of the positions. Computing it is a pass over the rows
-  /// of the system, about 7% of an edge-based iteration on the whole 26k-vertex armadillo; an
+  /// of the system, about 8% of an edge-based iteration on the whole 26k-vertex armadillo; an
   /// interactive caller that does not show it can turn it off (the positions stay the same, bit for
   /// bit; `energies` is then empty and `energy` 0).
   void set_energy_tracking(bool on) { m_energy_tracking = on; }
