@@ -540,7 +540,7 @@ p('From the micro-benchmarks below (`bench_Mesh_deformer --levels=%s`, every cas
   'the armadillo (level 0, 26k vertices) and its Loop subdivisions (level 1 104k, level 2 416k), ROI all '
   'but the 2%% lowest vertices, the 1%% highest moved; ours: cotangent weights, S*R1, default solver '
   '(when built with CHOLMOD: its AMD ordering and symbolic analysis, the multifrontal numeric factorisation, our supernodal solve); CGAL: `Surface_mesh_deformation` ORIGINAL_ARAP with its default '
-  'solver. One iteration = one `deform(1, 0)` (local step, right-hand side, solve). Peak memory = VmHWM of '
+  'solver. One iteration = one `deform(1, 0)` (local step, right-hand side, solve; ours with `set_energy_tracking(false)`, as CGAL computes no energy without a tolerance). Peak memory = VmHWM of '
   'the process of the iteration case (the case runs alone in its process: load the mesh, copy it, preprocess, '
   'iterate; Google Benchmark may call the case more than once, and the peak is reset through '
   '/proc/self/clear_refs at the start of each call, after the heap\'s free memory went back to the system (malloc_trim; the base then holds what stays after a first call, such as BLAS\'s buffers), so it is the peak of the last call, or the memory kept from the earlier calls if larger). Both methods carry '
