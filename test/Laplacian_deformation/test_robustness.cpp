@@ -530,62 +530,80 @@ Scaled_run scaled_run(double scale)
   return run;
 }
 
-TEST(BadInput, C36_ExtremeScales)
+// Every decade from 1e-300 to 1e300: either the unit-scale result times the scale (same
+// iterations, relative error below 1e-9 of the patch's diagonal) or a documented failure that
+// writes nothing. Uniform weights must succeed at every scale (their operator does not depend on
+// the scale); cotangent weights scale like 1/scale^2 and vanish (or overflow) far from 1, which
+// must be reported as a zero or non-finite operator, never as a success. One test per deformer
+// (601 deformations each), so that ctest runs them side by side.
+template <class D>
+void extreme_scales_sweep(bool uniform, const char* name)
 {
-  // every decade from 1e-300 to 1e300: either the unit-scale result times the scale (same
-  // iterations, relative error below 1e-9 of the patch's diagonal) or a documented failure that
-  // writes nothing. Uniform weights must succeed at every scale (their operator does not
-  // depend on the scale); cotangent weights scale like 1/scale^2 and vanish (or overflow)
-  // far from 1, which must be reported as a zero or non-finite operator, never as a success.
-  auto sweep = [](auto* tag, bool uniform, const char* name) {
-    typedef std::remove_pointer_t<decltype(tag)> D;
-    const Scaled_run unit = scaled_run<D>(1.);
-    ASSERT_TRUE(unit.result) << unit.result.message;
-    ASSERT_GE(unit.result.iterations, 2u);
-    const double diagonal = std::sqrt(2.);
-    double worst = 0;
-    int lowest = 0, highest = 0, successes = 0;
-    for(int e = -300; e <= 300; ++e)
+  const Scaled_run unit = scaled_run<D>(1.);
+  ASSERT_TRUE(unit.result) << unit.result.message;
+  ASSERT_GE(unit.result.iterations, 2u);
+  const double diagonal = std::sqrt(2.);
+  double worst = 0;
+  int lowest = 0, highest = 0, successes = 0;
+  for(int e = -300; e <= 300; ++e)
+  {
+    const double scale = std::stod("1e" + std::to_string(e));
+    const Scaled_run run = scaled_run<D>(scale);
+    if(run.result)
     {
-      const double scale = std::stod("1e" + std::to_string(e));
-      const Scaled_run run = scaled_run<D>(scale);
-      if(run.result)
-      {
-        EXPECT_EQ(run.result.iterations, unit.result.iterations) << name << " scale " << scale;
-        double error = 0;
-        for(std::size_t i = 0; i < run.points.size(); ++i)
-          error = (std::max)(error, internal::point_distance(run.points[i], unit.points[i]) / diagonal);
-        EXPECT_LE(error, 1e-9) << name << " scale " << scale;
-        worst = (std::max)(worst, error);
-        ++successes;
-        lowest = (std::min)(lowest, e);
-        highest = (std::max)(highest, e);
-      }
-      else
-      {
-        EXPECT_FALSE(uniform) << name << " scale " << scale << ": " << run.result.message;
-        EXPECT_TRUE(run.unchanged) << name << " scale " << scale;
-        const bool zero = run.result.status == LD::UNANCHORED_REGION &&
-                          run.result.message.find("Laplacian operator is zero") != std::string::npos;
-        const bool not_finite = run.result.status == LD::NON_FINITE_INPUT &&
-                                run.result.message.find("Laplacian operator is not finite") != std::string::npos;
-        const bool squares = run.result.status == LD::FACTORIZATION_FAILED &&
-                             (run.result.message.find("normal matrix overflows") != std::string::npos ||
-                              run.result.message.find("normal matrix underflows") != std::string::npos);
-        EXPECT_TRUE(zero || not_finite || squares) << name << " scale " << scale << ": status " << run.result.status
-                                        << " '" << run.result.message << "'";
-      }
+      EXPECT_EQ(run.result.iterations, unit.result.iterations) << name << " scale " << scale;
+      double error = 0;
+      for(std::size_t i = 0; i < run.points.size(); ++i)
+        error = (std::max)(error, internal::point_distance(run.points[i], unit.points[i]) / diagonal);
+      EXPECT_LE(error, 1e-9) << name << " scale " << scale;
+      worst = (std::max)(worst, error);
+      ++successes;
+      lowest = (std::min)(lowest, e);
+      highest = (std::max)(highest, e);
     }
-    EXPECT_EQ(successes, highest - lowest + 1) << name << ": the successful scales are not one range";
-    std::cout << name << ": success from 1e" << lowest << " to 1e" << highest << ", largest relative error "
-              << worst << std::endl;
-  };
-  sweep(static_cast<Edge_uniform*>(nullptr), true, "edge, uniform, S*R1");
-  sweep(static_cast<Vertex_uniform*>(nullptr), true, "vertex, uniform, S*R1");
-  sweep(static_cast<Edge_uniform_rotation*>(nullptr), true, "edge, uniform, rotation");
-  sweep(static_cast<Vertex_uniform_rotation*>(nullptr), true, "vertex, uniform, rotation");
-  sweep(static_cast<Edge_cotangent*>(nullptr), false, "edge, cotangent, S*R1");
-  sweep(static_cast<Vertex_cotangent*>(nullptr), false, "vertex, cotangent, S*R1");
+    else
+    {
+      EXPECT_FALSE(uniform) << name << " scale " << scale << ": " << run.result.message;
+      EXPECT_TRUE(run.unchanged) << name << " scale " << scale;
+      const bool zero = run.result.status == LD::UNANCHORED_REGION &&
+                        run.result.message.find("Laplacian operator is zero") != std::string::npos;
+      const bool not_finite = run.result.status == LD::NON_FINITE_INPUT &&
+                              run.result.message.find("Laplacian operator is not finite") != std::string::npos;
+      const bool squares = run.result.status == LD::FACTORIZATION_FAILED &&
+                           (run.result.message.find("normal matrix overflows") != std::string::npos ||
+                            run.result.message.find("normal matrix underflows") != std::string::npos);
+      EXPECT_TRUE(zero || not_finite || squares) << name << " scale " << scale << ": status " << run.result.status
+                                      << " '" << run.result.message << "'";
+    }
+  }
+  EXPECT_EQ(successes, highest - lowest + 1) << name << ": the successful scales are not one range";
+  std::cout << name << ": success from 1e" << lowest << " to 1e" << highest << ", largest relative error "
+            << worst << std::endl;
+}
+
+TEST(BadInput, C36_ExtremeScalesEdgeUniform)
+{
+  extreme_scales_sweep<Edge_uniform>(true, "edge, uniform, S*R1");
+}
+TEST(BadInput, C36_ExtremeScalesVertexUniform)
+{
+  extreme_scales_sweep<Vertex_uniform>(true, "vertex, uniform, S*R1");
+}
+TEST(BadInput, C36_ExtremeScalesEdgeUniformRotation)
+{
+  extreme_scales_sweep<Edge_uniform_rotation>(true, "edge, uniform, rotation");
+}
+TEST(BadInput, C36_ExtremeScalesVertexUniformRotation)
+{
+  extreme_scales_sweep<Vertex_uniform_rotation>(true, "vertex, uniform, rotation");
+}
+TEST(BadInput, C36_ExtremeScalesEdgeCotangent)
+{
+  extreme_scales_sweep<Edge_cotangent>(false, "edge, cotangent, S*R1");
+}
+TEST(BadInput, C36_ExtremeScalesVertexCotangent)
+{
+  extreme_scales_sweep<Vertex_cotangent>(false, "vertex, cotangent, S*R1");
 }
 
 // a transform policy whose fit is never finite
