@@ -31,6 +31,7 @@
 #endif
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <queue>
 #include <utility>
@@ -61,8 +62,13 @@ struct Supernodal_factor_view
 // one-column dot product's six chains wait on the FMA's latency). `portable` is compiled for the
 // build's instruction set (its update2 subtracts in the order of two update() calls, its dot2 is two
 // dot() calls); `avx2` (AVX2 and FMA, chosen at run time on x86 with GCC or Clang) does four rows per
-// instruction. Each fixes its order of summation, so a solve is reproducible for a given kernel; the
-// two differ by round-off.
+// instruction; its scalar tails (the rows past the last multiple of four or eight) are explicit
+// fused multiply-adds like its vector part. Each fixes its order of summation and its roundings, so
+// a solve is reproducible for a given kernel at any optimisation level; the two differ by
+// round-off. (The tails were plain a * b + c before: GCC contracts such expressions into FMAs in a
+// function compiled for FMA where it finds them, which depended on the inlining, so a program built
+// at -O2 and one built at -O3 differed in the last bits: 465 of the cactus task's 465 moved
+// vertices, by the tests that compare the laplacian_deform tool with the library.)
 namespace supernodal_kernels {
 
 inline void update_portable(const double* c, int len, const double* a, double* z0, double* z1, double* z2)
@@ -138,9 +144,9 @@ __attribute__((target("avx2,fma"))) inline void update_avx2(const double* c, int
   }
   for(; i < len; ++i)
   {
-    z0[i] -= c[i] * a[0];
-    z1[i] -= c[i] * a[1];
-    z2[i] -= c[i] * a[2];
+    z0[i] = std::fma(-c[i], a[0], z0[i]);
+    z1[i] = std::fma(-c[i], a[1], z1[i]);
+    z2[i] = std::fma(-c[i], a[2], z2[i]);
   }
 }
 
@@ -172,9 +178,9 @@ __attribute__((target("avx2,fma"))) inline void dot_avx2(const double* c, int le
          r2 = sum_avx2(_mm256_add_pd(s2, t2));
   for(; i < len; ++i)
   {
-    r0 += c[i] * z0[i];
-    r1 += c[i] * z1[i];
-    r2 += c[i] * z2[i];
+    r0 = std::fma(c[i], z0[i], r0);
+    r1 = std::fma(c[i], z1[i], r1);
+    r2 = std::fma(c[i], z2[i], r2);
   }
   s[0] = r0;
   s[1] = r1;
@@ -201,9 +207,9 @@ __attribute__((target("avx2,fma"))) inline void update2_avx2(const double* c, co
   }
   for(; i < len; ++i)
   {
-    z0[i] = (z0[i] - c[i] * a[0]) - d[i] * a[3];
-    z1[i] = (z1[i] - c[i] * a[1]) - d[i] * a[4];
-    z2[i] = (z2[i] - c[i] * a[2]) - d[i] * a[5];
+    z0[i] = std::fma(-d[i], a[3], std::fma(-c[i], a[0], z0[i]));
+    z1[i] = std::fma(-d[i], a[4], std::fma(-c[i], a[1], z1[i]));
+    z2[i] = std::fma(-d[i], a[5], std::fma(-c[i], a[2], z2[i]));
   }
 }
 
@@ -259,12 +265,12 @@ __attribute__((target("avx2,fma"))) inline void dot2_avx2(const double* c, const
                  sum_avx2(_mm256_add_pd(q0, t0)), sum_avx2(_mm256_add_pd(q1, t1)), sum_avx2(_mm256_add_pd(q2, t2))};
   for(; i < len; ++i)
   {
-    e[0] += c[i] * z0[i];
-    e[1] += c[i] * z1[i];
-    e[2] += c[i] * z2[i];
-    e[3] += d[i] * z0[i];
-    e[4] += d[i] * z1[i];
-    e[5] += d[i] * z2[i];
+    e[0] = std::fma(c[i], z0[i], e[0]);
+    e[1] = std::fma(c[i], z1[i], e[1]);
+    e[2] = std::fma(c[i], z2[i], e[2]);
+    e[3] = std::fma(d[i], z0[i], e[3]);
+    e[4] = std::fma(d[i], z1[i], e[4]);
+    e[5] = std::fma(d[i], z2[i], e[5]);
   }
   for(int k = 0; k < 6; ++k)
     s[k] = e[k];
