@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <iostream>
 #include <limits>
@@ -387,6 +388,118 @@ TEST(BatchedTransforms, PoliciesWithoutABlockMethodArePerCell)
   LD::internal::transform_cells(Counting_policy(), cells.data(), cells.size(), out.data());
   for(std::size_t i = 0; i < cells.size(); ++i)
     EXPECT_EQ(out[i], double(cells[i].size()) * Eigen::Matrix3d::Identity());
+}
+
+// gather_lanes() (the local step's gather of 8 cells into the lanes, vectorised with AVX2 and
+// AVX-512) against a plain per-cell gather written here as Deformation_core::gather_cell() does
+// it: every spoke's e = rest(a) - rest(n), e' = current(a) - current(n), scaled by the power of two
+// of the cell's largest finite coordinate, the weight max(w, 0), zeros past the degree and in the
+// lanes from m on, bitwise (zero signs included; NaN where the reference has NaN), for every
+// target, every group size 1 to 8, degrees 0 to 17, coordinates from 1e-300 to 1e300, NaN and
+// infinite coordinates, negative, -0 and NaN weights, and node records whose two unused doubles
+// are NaN (never read into a spoke).
+TEST(BatchedTransforms, GatherLanesMatchesTheCellGather)
+{
+  constexpr std::size_t rec = B::Gather_input::record;
+  const std::size_t n = 3000;
+  std::mt19937_64 g(20261207);
+  std::normal_distribution<double> normal(0, 1);
+  std::uniform_int_distribution<int> pick(0, 99);
+  std::vector<double> records(n * rec);
+  for(std::size_t a = 0; a < n; ++a)
+  {
+    const int kind = pick(g);
+    const double scale = kind < 5 ? 1e-300 : kind < 10 ? 1e300 : kind < 15 ? 1e-160 : kind < 20 ? 1e150 : 1.;
+    for(std::size_t k = 0; k < 6; ++k)
+      records[a * rec + k] = scale * normal(g);
+    if(kind == 20)
+      records[a * rec + std::size_t(pick(g) % 6)] = std::numeric_limits<double>::quiet_NaN();
+    if(kind == 21)
+      records[a * rec + std::size_t(pick(g) % 6)] = -std::numeric_limits<double>::infinity();
+    records[a * rec + 6] = records[a * rec + 7] = std::numeric_limits<double>::quiet_NaN();
+  }
+  std::vector<std::uint32_t> start(1, 0), neighbor;
+  std::vector<double> weight;
+  for(std::size_t a = 0; a < n; ++a)
+  {
+    const int degree = pick(g) % 18;
+    for(int i = 0; i < degree; ++i)
+    {
+      neighbor.push_back(std::uint32_t(std::size_t(g()) % n));
+      const int w = pick(g);
+      weight.push_back(w < 10 ? -std::abs(normal(g)) : w < 13 ? -0. : w == 13 ? std::numeric_limits<double>::quiet_NaN() :
+                       std::abs(normal(g)));
+    }
+    start.push_back(std::uint32_t(neighbor.size()));
+  }
+  B::Gather_input in;
+  in.node = records.data();
+  in.neighbor_start = start.data();
+  in.neighbor = neighbor.data();
+  in.weight = weight.data();
+  // same bits, or NaN in both
+  auto same = [](double x, double y) {
+    return std::isnan(y) ? std::isnan(x) : std::memcmp(&x, &y, sizeof x) == 0;
+  };
+  const double zero = 0.;
+  const B::Batch_target saved = B::batch_target();
+  std::size_t checked = 0, scaled = 0, with_nan = 0;
+  for(B::Batch_target target : available_targets())
+  {
+    if(target == B::Batch_target::per_cell)
+      continue;
+    std::vector<std::size_t> nodes(B::lanes);
+    for(std::size_t group = 0; group < 600; ++group)
+    {
+      const int m = int(group % B::lanes) + 1;
+      std::size_t d = 0;
+      for(int l = 0; l < m; ++l)
+      {
+        nodes[std::size_t(l)] = std::size_t(g()) % n;
+        d = (std::max)(d, std::size_t(start[nodes[std::size_t(l)] + 1] - start[nodes[std::size_t(l)]]));
+      }
+      std::vector<double> spokes(7 * d * B::lanes, -7.), scratch(8 * d * B::lanes, -7.);   // garbage to overwrite
+      B::Lanes b;
+      B::gather_lanes(target, in, nodes.data(), m, b, spokes.data(), scratch.data());
+      ASSERT_EQ(b.max_degree, d);
+      const double *rest = spokes.data(), *current = rest + 3 * d * B::lanes, *w = current + 3 * d * B::lanes;
+      for(int l = 0; l < B::lanes; ++l)
+      {
+        const std::size_t a = nodes[std::size_t(l)];
+        const std::size_t first = l < m ? start[a] : 0, degree = l < m ? start[a + 1] - first : 0;
+        ASSERT_EQ(b.degree[l], std::int64_t(degree)) << B::batch_target_name(target) << " lane " << l;
+        double largest = 0;
+        for(std::size_t i = 0; i < degree; ++i)
+          for(std::size_t k = 0; k < 6; ++k)
+            largest = (std::max)(largest, std::abs(records[a * rec + k] - records[neighbor[first + i] * rec + k]));
+        const double unit = LD::internal::normalizing_power_of_two(largest);
+        scaled += unit != 1.;
+        for(std::size_t i = 0; i < d; ++i)
+        {
+          const bool on = i < degree;
+          for(std::size_t c = 0; c < 3; ++c)
+          {
+            const std::size_t nb = on ? neighbor[first + i] * rec : 0;
+            const double e = on ? (records[a * rec + 3 + c] - records[nb + 3 + c]) * unit : zero;
+            const double f = on ? (records[a * rec + c] - records[nb + c]) * unit : zero;
+            with_nan += std::isnan(e) || std::isnan(f);
+            ASSERT_TRUE(same(rest[(3 * i + c) * B::lanes + std::size_t(l)], e))
+                << B::batch_target_name(target) << " lane " << l << " spoke " << i << " rest " << c;
+            ASSERT_TRUE(same(current[(3 * i + c) * B::lanes + std::size_t(l)], f))
+                << B::batch_target_name(target) << " lane " << l << " spoke " << i << " current " << c;
+          }
+          const double wi = on ? (std::max)(weight[first + i], 0.) : zero;
+          ASSERT_TRUE(same(w[i * B::lanes + std::size_t(l)], wi))
+              << B::batch_target_name(target) << " lane " << l << " spoke " << i << " weight";
+          ++checked;
+        }
+      }
+    }
+  }
+  B::set_batch_target(saved);
+  EXPECT_GT(checked, 10000u);
+  EXPECT_GT(scaled, 100u) << "cells far from magnitude 1 must be covered";
+  EXPECT_GT(with_nan, 10u) << "NaN coordinates must be covered";
 }
 
 TEST(BatchedTransforms, TargetCanBeForced)

@@ -779,62 +779,41 @@ private:
     return degree;
   }
 
-  // the fits of local_step_with() for a policy with transform_lanes(): gather_cell() puts the
-  // spokes of `lanes` cells at a time straight into the kernels' structure-of-arrays buffers (the
-  // same numbers as the cells of the general path, so the same transforms, bit for bit), without
-  // the general path's copy of every cell
+  // the fits of local_step_with() for a policy with transform_lanes(): batched::gather_lanes()
+  // puts the spokes of `lanes` cells at a time straight into the kernels' structure-of-arrays
+  // buffers (the numbers of gather_cell(), so the same transforms, bit for bit), without the
+  // general path's copy of every cell
   template <class Policy>
   void fit_lanes(const Policy& policy, std::atomic<std::size_t>& failed)
   {
     const Laplacian_stencils& s = *m_stencils;
     constexpr int lanes = batched::lanes;
+    static_assert(std::is_same<Stencil_index, std::uint32_t>::value, "the gather reads 32-bit indices");
+    static_assert(sizeof(Node_positions) == batched::Gather_input::record * sizeof(double), "");
+    if(m_fit_nodes.empty())
+      return;
+    batched::Gather_input in;
+    in.node = m_nodes.front().current.data();
+    CGAL_assertion(m_nodes.front().rest.data() == in.node + 3);
+    in.neighbor_start = s.neighbor_start.data();
+    in.neighbor = s.neighbor.data();
+    in.weight = s.weight.data();
+    const batched::Batch_target target = batched::batch_target();
     for_each_block(m_fit_nodes.size(), [&](std::size_t begin, std::size_t end) {
       batched::Lanes b;
-      std::vector<double> spokes(7 * m_max_degree * std::size_t(lanes));
-      std::vector<double> cell(6 * m_max_degree);   // one cell's spokes, contiguous: e then e' per spoke
+      std::vector<double> spokes(7 * m_max_degree * std::size_t(lanes)), scratch(8 * m_max_degree * std::size_t(lanes));
       Eigen::Matrix3d fitted[lanes];
       for(std::size_t r0 = begin; r0 < end; r0 += std::size_t(lanes))
       {
         const int m = int((std::min)(std::size_t(lanes), end - r0));
-        std::size_t d = 0;
-        for(int l = 0; l < m; ++l)
+        // the node records of the next group's cells (scattered; one cache line each)
+        for(std::size_t r = r0 + std::size_t(lanes); r < (std::min)(r0 + 2 * std::size_t(lanes), end); ++r)
         {
-          const std::size_t a = m_fit_nodes[r0 + std::size_t(l)];
-          d = (std::max)(d, std::size_t(s.neighbor_start[a + 1] - s.neighbor_start[a]));
+          const std::size_t a = m_fit_nodes[r];
+          for(std::size_t k = s.neighbor_start[a]; k < s.neighbor_start[a + 1]; ++k)
+            prefetch_line(m_nodes.data() + s.neighbor[k]);
         }
-        batched::begin_lanes(b, m, d, spokes.data());
-        double *rest = spokes.data(), *current = rest + 3 * d * lanes, *weight = current + 3 * d * lanes;
-        for(int l = 0; l < m; ++l)
-        {
-          // the spokes are gathered into `cell`, then written once, scaled, into the lanes (the
-          // lanes' stride is a cache line: storing them unscaled then scaling them in place cost
-          // a second strided read and write of every coordinate)
-          double* g = cell.data();
-          const std::size_t degree = gather_cell(r0 + std::size_t(l), end, [&](std::size_t i, const Eigen::Vector3d& e,
-                                                                                const Eigen::Vector3d& f, double w) {
-            for(int c = 0; c < 3; ++c)
-            {
-              g[6 * i + std::size_t(c)] = e[c];
-              g[6 * i + 3 + std::size_t(c)] = f[c];
-            }
-            weight[i * lanes + std::size_t(l)] = w;
-          }, [&](std::size_t n, double unit) {
-            for(std::size_t i = 0; i < n; ++i)
-              for(std::size_t c = 0; c < 3; ++c)
-              {
-                rest[(3 * i + c) * lanes + std::size_t(l)] = g[6 * i + c] * unit;
-                current[(3 * i + c) * lanes + std::size_t(l)] = g[6 * i + 3 + c] * unit;
-              }
-          });
-          b.degree[l] = std::int64_t(degree);
-          for(std::size_t i = degree; i < d; ++i)   // past the cell's degree: zeros
-          {
-            for(int c = 0; c < 3; ++c)
-              rest[(3 * i + std::size_t(c)) * lanes + std::size_t(l)] =
-                  current[(3 * i + std::size_t(c)) * lanes + std::size_t(l)] = 0.;
-            weight[i * lanes + std::size_t(l)] = 0.;
-          }
-        }
+        batched::gather_lanes(target, in, m_fit_nodes.data() + r0, m, b, spokes.data(), scratch.data());
         policy.transform_lanes(b, m, fitted);
         for(int l = 0; l < m; ++l)
           if(fitted[l].allFinite())

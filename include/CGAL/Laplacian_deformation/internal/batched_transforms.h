@@ -191,11 +191,26 @@ struct Lanes
   double anchor = 0;
 };
 
+// Where gather_lanes() reads the cells of the local step: node n's record of 8 doubles at
+// node + 8 n (its current position, its rest position, two unused doubles), its neighbours
+// neighbor[k] with weights weight[k] for k in [neighbor_start[n], neighbor_start[n + 1]).
+struct Gather_input
+{
+  static constexpr std::size_t record = 8;   // doubles per node record
+  const double* node = nullptr;
+  const std::uint32_t* neighbor_start = nullptr;
+  const std::uint32_t* neighbor = nullptr;
+  const double* weight = nullptr;
+};
+
 #if defined(__clang__)
 #define CGAL_LAPDEF_NO_CONTRACT _Pragma("clang fp contract(off)")
 #else
 #define CGAL_LAPDEF_NO_CONTRACT
 #endif
+// std::max(a, b) without a call: under the kernels' optimisation pragma GCC does not inline
+// std::max<double> into the target functions (a call per spoke, 5% of an iteration)
+#define CGAL_LAPDEF_MAX(a, b) ((a) < (b) ? (b) : (a))
 #if defined(__GNUC__)
 #define CGAL_LAPDEF_FABS(x) __builtin_fabs(x)
 #else
@@ -241,6 +256,7 @@ struct Lanes
 #endif
 #undef CGAL_LAPDEF_NO_CONTRACT
 #undef CGAL_LAPDEF_FABS
+#undef CGAL_LAPDEF_MAX
 
 inline void run_stage(Batch_target target, Stage stage, Lanes& b)
 {
@@ -297,6 +313,27 @@ inline void begin_lanes(Lanes& b, int m, std::size_t d, double* spokes)
     for(std::size_t i = 0; i < 7 * d; ++i)
       spokes[i * lanes + std::size_t(l)] = 0.;
   }
+}
+
+// Gathers the cells of the nodes node[0], ..., node[m - 1] (m <= lanes) read from `in` into `b`:
+// begin_lanes() with the largest of their degrees d, then the kernels' gather_lanes() (the
+// spokes scaled as Deformation_core::gather_cell() scales them). `spokes` holds at least
+// 7 d lanes doubles, `scratch` at least 8 d lanes. `target` is not per_cell.
+inline void gather_lanes(Batch_target target, const Gather_input& in, const std::size_t* node, int m, Lanes& b,
+                         double* spokes, double* scratch)
+{
+  std::size_t d = 0;
+  for(int l = 0; l < m; ++l)
+    d = (std::max)(d, std::size_t(in.neighbor_start[node[l] + 1] - in.neighbor_start[node[l]]));
+  begin_lanes(b, m, d, spokes);
+#if CGAL_LAPDEF_MULTIVERSIONING
+  if(target == Batch_target::avx512)
+    return avx512::gather_lanes(in, node, m, b, spokes, scratch);
+  if(target == Batch_target::avx2)
+    return avx2::gather_lanes(in, node, m, b, spokes, scratch);
+#endif
+  (void)target;
+  portable::gather_lanes(in, node, m, b, spokes, scratch);
 }
 
 // The cell of lane `l` of `b`, rebuilt from its spokes (the same numbers as the cell the lane was

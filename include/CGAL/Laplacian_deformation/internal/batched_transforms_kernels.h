@@ -93,23 +93,21 @@ CGAL_LAPDEF_KERNEL_ATTR inline void jacobi_rotation(Jacobi_work& w, int l0)
   CGAL_LAPDEF_LOAD(g, w.a[op] + l0);
   CGAL_LAPDEF_LOAD(hh, w.a[oq] + l0);
   CGAL_LAPDEF_LOAD(done, w.done + l0);
-  const Vd theta = (aqq - app) / (2 * apq);
-  x1 = theta * theta + 1.;
+  const Vd d = aqq - app;
+  x1 = d * d + 4 * apq * apq;
   CGAL_LAPDEF_STORE(w.x1 + l0, x1);
   sqrt_sub(w.x1 + l0);
   CGAL_LAPDEF_LOAD(x1, w.x1 + l0);
-  const Vd at = (Vd)((Vm)theta & 0x7fffffffffffffffLL);
-  // at > 1e150 ? 0.5 / at : 1 / (at + sqrt(theta^2 + 1)), with one division
-  const Vm far = at > 1e150;
-  const Vd zero = {}, half = zero + 0.5, one = zero + 1.;
-  const Vd t0 = CGAL_LAPDEF_SELECT(far, half, one) / CGAL_LAPDEF_SELECT(far, at, at + x1);
-  const Vd t = CGAL_LAPDEF_SELECT(theta < 0, -t0, t0);
+  const Vd ad = (Vd)((Vm)d & 0x7fffffffffffffffLL);
+  const Vd zero = {};
+  const Vd t0 = (2 * apq) / (ad + x1);
+  const Vd t = CGAL_LAPDEF_SELECT(d < 0, -t0, t0);
   x2 = t * t + 1.;
   CGAL_LAPDEF_STORE(w.x2 + l0, x2);
   sqrt_sub(w.x2 + l0);
   CGAL_LAPDEF_LOAD(x2, w.x2 + l0);
   const Vm apply = (done == 0) & (apq != 0);
-  const Vd c = 1. / x2, sn = t * c, tau = sn / (1. + c), h = t * apq;
+  const Vd c = 1. / x2, sn = t * c, tau = t / (x2 + 1.), h = t * apq;
   const Vd new_pp = app - h, new_qq = aqq + h;
   const Vd new_op = g - sn * (hh + g * tau), new_oq = hh + sn * (g - hh * tau);
   const Vd r_pp = CGAL_LAPDEF_SELECT(apply, new_pp, app), r_qq = CGAL_LAPDEF_SELECT(apply, new_qq, aqq),
@@ -154,18 +152,16 @@ CGAL_LAPDEF_KERNEL_ATTR inline void jacobi_rotation(Jacobi_work& w, int l0)
   constexpr int op = 3 * o + p, po = 3 * p + o, oq = 3 * o + q, qo = 3 * q + o;
   for(int l = l0; l < l0 + sub; ++l)
   {
-    const double theta = (a[qq][l] - a[pp][l]) / (2 * a[pq][l]);
-    th[l] = theta;
-    x1[l] = theta * theta + 1.;
+    const double d = a[qq][l] - a[pp][l], apq = a[pq][l];
+    th[l] = d;
+    x1[l] = d * d + 4 * apq * apq;
   }
   sqrt_sub(x1 + l0);
   for(int l = l0; l < l0 + sub; ++l)
   {
-    const double theta = th[l], at = CGAL_LAPDEF_FABS(theta);
-    // at > 1e150 ? 0.5 / at : 1 / (at + sqrt(theta^2 + 1)), with one division
-    const bool far = at > 1e150;
-    const double t = (far ? 0.5 : 1.) / (far ? at : at + x1[l]);
-    const double signed_t = theta < 0 ? -t : t;
+    const double d = th[l];
+    const double t = (2 * a[pq][l]) / (CGAL_LAPDEF_FABS(d) + x1[l]);
+    const double signed_t = d < 0 ? -t : t;
     tt[l] = signed_t;
     x2[l] = signed_t * signed_t + 1.;
   }
@@ -174,7 +170,7 @@ CGAL_LAPDEF_KERNEL_ATTR inline void jacobi_rotation(Jacobi_work& w, int l0)
   {
     const double apq = a[pq][l], t = tt[l];
     const bool apply = done[l] == 0 && apq != 0;
-    const double c = 1. / x2[l], sn = t * c, tau = sn / (1. + c), h = t * apq;
+    const double c = 1. / x2[l], sn = t * c, tau = t / (x2[l] + 1.), h = t * apq;
     const double app = a[pp][l], aqq = a[qq][l], g = a[op][l], hh = a[oq][l];
     const double new_pp = app - h, new_qq = aqq + h;
     const double new_op = g - sn * (hh + g * tau), new_oq = hh + sn * (g - hh * tau);
@@ -587,6 +583,213 @@ CGAL_LAPDEF_KERNEL_ATTR inline void covariance(Lanes& b)
       }
     }
   }
+}
+
+// The spokes of the cells of the nodes node[0], ..., node[m - 1] (m <= lanes) into the lanes of
+// `b`, set up by begin_lanes(b, m, d, spokes): for lane l and spoke i below the cell's degree,
+// e = rest(a) - rest(n_i) and e' = current(a) - current(n_i), both multiplied by the power of two
+// of the lane's largest coordinate (normalizing_power_of_two(), NaN coordinates skipped), and the
+// weight max(w_i, 0) unscaled; zeros (+0) past the lane's degree and in the lanes from m on.
+// Sets b.degree. Bitwise what Deformation_core::gather_cell() computes for each cell (test
+// BatchedTransforms.GatherLanesMatchesTheCellGather). `scratch`: 8 d lanes doubles.
+// With AVX2 and AVX-512, each spoke is one vector subtraction of two node records
+// (current and rest together), written to `scratch` cell by cell; the lanes' rows are then
+// transposed from it 8 lanes at a time (shuffles, no gather instruction: vector gathers were
+// slower than scalar loads on the Intel Xeon where this was measured).
+CGAL_LAPDEF_KERNEL_ATTR inline void gather_lanes(const Gather_input& in, const std::size_t* node, int m, Lanes& b,
+                                                 double* spokes, double* scratch)
+{
+  CGAL_LAPDEF_NO_CONTRACT
+  const std::size_t d = b.max_degree;
+  double *rest = spokes, *current = spokes + 3 * d * lanes, *weight = spokes + 6 * d * lanes;
+  constexpr std::size_t rec = Gather_input::record;
+#if CGAL_LAPDEF_KERNEL_ISA >= 2
+#if CGAL_LAPDEF_KERNEL_ISA == 3
+  // the masked forms with a full mask: GCC 12 warns (-Wmaybe-uninitialized) on the plain
+  // unpack and max intrinsics, which start from _mm512_undefined_pd()
+  const __mmask8 all = 0xFF;
+#endif
+  static_assert(lanes == 8 && rec == 8, "one AVX-512 register (two AVX2 registers) per record and per lane row");
+  // pass 1, cell by cell: scratch[(l d + i) 8 + k] = record(a) - record(n_i), k < 6 (current,
+  // then rest; 0 at k = 6, 7 and past the degree), and the lane's power of two
+  alignas(64) double unit[lanes];
+  for(int l = 0; l < lanes; ++l)
+  {
+    double* g = scratch + std::size_t(l) * d * rec;
+    std::size_t degree = 0, first = 0, a = 0;
+    if(l < m)
+    {
+      a = node[l];
+      first = in.neighbor_start[a];
+      degree = in.neighbor_start[a + 1] - first;
+    }
+    b.degree[l] = std::int64_t(degree);
+    double largest = 0;
+#if CGAL_LAPDEF_KERNEL_ISA == 3
+    const __m512d zero = _mm512_setzero_pd();
+    if(degree > 0)
+    {
+      const __m512d xa = _mm512_maskz_loadu_pd(0x3F, in.node + a * rec);
+      __m512d big = zero;
+      for(std::size_t i = 0; i < degree; ++i)
+      {
+        const std::size_t nb = in.neighbor[first + i];
+        const __m512d dn = _mm512_maskz_sub_pd(0x3F, xa, _mm512_maskz_loadu_pd(0x3F, in.node + nb * rec));
+        // max(|x|, largest): largest where x is NaN, as std::max(largest, |x|)
+        big = _mm512_maskz_max_pd(all, _mm512_abs_pd(dn), big);
+        _mm512_storeu_pd(g + i * rec, dn);
+        {
+          const double w = in.weight[first + i];   // std::max(w, 0.) (not a call: see CGAL_LAPDEF_MAX)
+          weight[i * lanes + std::size_t(l)] = w < 0. ? 0. : w;
+        }
+      }
+      alignas(64) double m8[8];   // of non-negative numbers: any order gives the same maximum
+      _mm512_store_pd(m8, big);
+      largest = CGAL_LAPDEF_MAX(CGAL_LAPDEF_MAX(CGAL_LAPDEF_MAX(m8[0], m8[1]), CGAL_LAPDEF_MAX(m8[2], m8[3])),
+                                CGAL_LAPDEF_MAX(m8[4], m8[5]));
+    }
+    for(std::size_t i = degree; i < d; ++i)
+    {
+      _mm512_storeu_pd(g + i * rec, zero);
+      weight[i * lanes + std::size_t(l)] = 0.;
+    }
+#else
+    const __m256d zero = _mm256_setzero_pd(), sign = _mm256_set1_pd(-0.);
+    const __m256i low_two = _mm256_setr_epi64x(-1, -1, 0, 0);
+    if(degree > 0)
+    {
+      const __m256d xa0 = _mm256_loadu_pd(in.node + a * rec), xa1 = _mm256_maskload_pd(in.node + a * rec + 4, low_two);
+      __m256d big0 = zero, big1 = zero;
+      for(std::size_t i = 0; i < degree; ++i)
+      {
+        const double* n = in.node + std::size_t(in.neighbor[first + i]) * rec;
+        const __m256d d0 = _mm256_sub_pd(xa0, _mm256_loadu_pd(n)),
+                      d1 = _mm256_sub_pd(xa1, _mm256_maskload_pd(n + 4, low_two));
+        // max(|x|, largest): largest where x is NaN, as std::max(largest, |x|)
+        big0 = _mm256_max_pd(_mm256_andnot_pd(sign, d0), big0);
+        big1 = _mm256_max_pd(_mm256_andnot_pd(sign, d1), big1);
+        _mm256_storeu_pd(g + i * rec, d0);
+        _mm256_storeu_pd(g + i * rec + 4, d1);
+        {
+          const double w = in.weight[first + i];   // std::max(w, 0.) (not a call: see CGAL_LAPDEF_MAX)
+          weight[i * lanes + std::size_t(l)] = w < 0. ? 0. : w;
+        }
+      }
+      alignas(32) double m0[4], m1[4];
+      _mm256_store_pd(m0, big0);
+      _mm256_store_pd(m1, big1);
+      largest = CGAL_LAPDEF_MAX(CGAL_LAPDEF_MAX(CGAL_LAPDEF_MAX(m0[0], m0[1]), CGAL_LAPDEF_MAX(m0[2], m0[3])),
+                                CGAL_LAPDEF_MAX(m1[0], m1[1]));
+    }
+    for(std::size_t i = degree; i < d; ++i)
+    {
+      _mm256_storeu_pd(g + i * rec, zero);
+      _mm256_storeu_pd(g + i * rec + 4, zero);
+      weight[i * lanes + std::size_t(l)] = 0.;
+    }
+#endif
+    unit[l] = normalizing_power_of_two(largest);
+  }
+  // pass 2, spoke by spoke: the 8 lanes' differences transposed into rows (coordinate k of every
+  // lane), multiplied by the lanes' powers of two; rows 0-2 are e', rows 3-5 e
+#if CGAL_LAPDEF_KERNEL_ISA == 3
+  const __m512d u = _mm512_load_pd(unit);
+  const __m512i ia = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), ib = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15),
+                ic = _mm512_setr_epi64(0, 1, 2, 3, 8, 9, 10, 11), id = _mm512_setr_epi64(4, 5, 6, 7, 12, 13, 14, 15);
+  const std::size_t lane_stride = d * rec;
+  for(std::size_t i = 0; i < d; ++i)
+  {
+    const double* g = scratch + i * rec;
+    __m512d r[8];
+    for(int l = 0; l < 8; ++l)
+      r[l] = _mm512_loadu_pd(g + std::size_t(l) * lane_stride);
+    const __m512d t0 = _mm512_maskz_unpacklo_pd(all, r[0], r[1]), t1 = _mm512_maskz_unpackhi_pd(all, r[0], r[1]),
+                  t2 = _mm512_maskz_unpacklo_pd(all, r[2], r[3]), t3 = _mm512_maskz_unpackhi_pd(all, r[2], r[3]),
+                  t4 = _mm512_maskz_unpacklo_pd(all, r[4], r[5]), t5 = _mm512_maskz_unpackhi_pd(all, r[4], r[5]),
+                  t6 = _mm512_maskz_unpacklo_pd(all, r[6], r[7]), t7 = _mm512_maskz_unpackhi_pd(all, r[6], r[7]);
+    // u_k: coordinates k and k + 4 of lanes 0-3 (u0-u3) and 4-7 (u4-u7)
+    const __m512d u0 = _mm512_permutex2var_pd(t0, ia, t2), u1 = _mm512_permutex2var_pd(t1, ia, t3),
+                  u2 = _mm512_permutex2var_pd(t0, ib, t2), u3 = _mm512_permutex2var_pd(t1, ib, t3),
+                  u4 = _mm512_permutex2var_pd(t4, ia, t6), u5 = _mm512_permutex2var_pd(t5, ia, t7),
+                  u6 = _mm512_permutex2var_pd(t4, ib, t6), u7 = _mm512_permutex2var_pd(t5, ib, t7);
+    const __m512d row[6] = {_mm512_permutex2var_pd(u0, ic, u4), _mm512_permutex2var_pd(u1, ic, u5),
+                            _mm512_permutex2var_pd(u2, ic, u6), _mm512_permutex2var_pd(u3, ic, u7),
+                            _mm512_permutex2var_pd(u0, id, u4), _mm512_permutex2var_pd(u1, id, u5)};
+    for(std::size_t c = 0; c < 3; ++c)
+    {
+      _mm512_storeu_pd(current + (3 * i + c) * lanes, _mm512_mul_pd(row[c], u));
+      _mm512_storeu_pd(rest + (3 * i + c) * lanes, _mm512_mul_pd(row[3 + c], u));
+    }
+  }
+#else
+  const std::size_t lane_stride = d * rec;
+  for(int h = 0; h < 2; ++h)   // lanes 0-3, then 4-7
+  {
+    const __m256d u = _mm256_load_pd(unit + 4 * h);
+    for(std::size_t i = 0; i < d; ++i)
+    {
+      const double* g = scratch + std::size_t(4 * h) * lane_stride + i * rec;
+      __m256d r0[4], r1[4];   // coordinates 0-3 and 4-7 of the four lanes
+      for(int l = 0; l < 4; ++l)
+      {
+        r0[l] = _mm256_loadu_pd(g + std::size_t(l) * lane_stride);
+        r1[l] = _mm256_loadu_pd(g + std::size_t(l) * lane_stride + 4);
+      }
+      const __m256d t0 = _mm256_unpacklo_pd(r0[0], r0[1]), t1 = _mm256_unpackhi_pd(r0[0], r0[1]),
+                    t2 = _mm256_unpacklo_pd(r0[2], r0[3]), t3 = _mm256_unpackhi_pd(r0[2], r0[3]),
+                    s0 = _mm256_unpacklo_pd(r1[0], r1[1]), s1 = _mm256_unpackhi_pd(r1[0], r1[1]),
+                    s2 = _mm256_unpacklo_pd(r1[2], r1[3]), s3 = _mm256_unpackhi_pd(r1[2], r1[3]);
+      const __m256d row[6] = {_mm256_permute2f128_pd(t0, t2, 0x20), _mm256_permute2f128_pd(t1, t3, 0x20),
+                              _mm256_permute2f128_pd(t0, t2, 0x31), _mm256_permute2f128_pd(t1, t3, 0x31),
+                              _mm256_permute2f128_pd(s0, s2, 0x20), _mm256_permute2f128_pd(s1, s3, 0x20)};
+      for(std::size_t c = 0; c < 3; ++c)
+      {
+        _mm256_storeu_pd(current + (3 * i + c) * lanes + std::size_t(4 * h), _mm256_mul_pd(row[c], u));
+        _mm256_storeu_pd(rest + (3 * i + c) * lanes + std::size_t(4 * h), _mm256_mul_pd(row[3 + c], u));
+      }
+    }
+  }
+#endif
+#else
+  // one lane at a time: the cell's differences into `scratch` (contiguous) with its largest
+  // coordinate, then written once, scaled, into the lanes; the lanes from m on were emptied by
+  // begin_lanes()
+  for(int l = 0; l < m; ++l)
+  {
+    const std::size_t a = node[l], first = in.neighbor_start[a], degree = in.neighbor_start[a + 1] - first;
+    b.degree[l] = std::int64_t(degree);
+    const double* xa = in.node + a * rec;
+    double largest[6] = {0, 0, 0, 0, 0, 0};
+    for(std::size_t i = 0; i < degree; ++i)
+    {
+      const double* n = in.node + std::size_t(in.neighbor[first + i]) * rec;
+      for(std::size_t k = 0; k < 6; ++k)
+      {
+        const double x = xa[k] - n[k];
+        scratch[6 * i + k] = x;
+        largest[k] = CGAL_LAPDEF_MAX(largest[k], CGAL_LAPDEF_FABS(x));
+      }
+      {
+          const double w = in.weight[first + i];   // std::max(w, 0.) (not a call: see CGAL_LAPDEF_MAX)
+          weight[i * lanes + std::size_t(l)] = w < 0. ? 0. : w;
+        }
+    }
+    const double unit = normalizing_power_of_two(CGAL_LAPDEF_MAX(
+        CGAL_LAPDEF_MAX(CGAL_LAPDEF_MAX(largest[0], largest[1]), CGAL_LAPDEF_MAX(largest[2], largest[3])),
+        CGAL_LAPDEF_MAX(largest[4], largest[5])));
+    for(std::size_t i = 0; i < d; ++i)
+    {
+      const bool on = i < degree;
+      for(std::size_t c = 0; c < 3; ++c)
+      {
+        current[(3 * i + c) * lanes + std::size_t(l)] = on ? scratch[6 * i + c] * unit : 0.;
+        rest[(3 * i + c) * lanes + std::size_t(l)] = on ? scratch[6 * i + 3 + c] * unit : 0.;
+      }
+      if(!on)
+        weight[i * lanes + std::size_t(l)] = 0.;
+    }
+  }
+#endif
 }
 
 #undef CGAL_LAPDEF_MAT_VEC

@@ -69,7 +69,9 @@ inline Eigen::Matrix3d closest_rotation_svd(const Eigen::Matrix3d& s)
 
 // Eigen-decomposition of the symmetric 3x3 matrix `a` by cyclic Jacobi rotations (the
 // Numerical Recipes update): on return `a` is diagonal to round-off and a_in = v a v^T,
-// `v` orthogonal. Allocation-free, a few hundred flops (3 or 4 sweeps in practice).
+// `v` orthogonal. Allocation-free, a few hundred flops (3 or 4 sweeps in practice). For entries
+// of magnitude between about 1e-100 and 1e100 (closest_rotation() calls it on S^T S with S scaled
+// into [1/2, 1)): the squares of the rotation angle's formula neither overflow nor underflow.
 inline void symmetric_eigen_jacobi_3(Eigen::Matrix3d& a, Eigen::Matrix3d& v)
 {
   v.setIdentity();
@@ -85,12 +87,18 @@ inline void symmetric_eigen_jacobi_3(Eigen::Matrix3d& a, Eigen::Matrix3d& v)
       const double apq = a(p, q);
       if(apq == 0)
         continue;
-      const double theta = (a(q, q) - a(p, p)) / (2 * apq);
-      double t = std::abs(theta) > 1e150 ? 0.5 / std::abs(theta)
-                                          : 1. / (std::abs(theta) + std::sqrt(theta * theta + 1.));
-      if(theta < 0)
+      // t = tan of the rotation angle, the root of smaller magnitude of t^2 + 2 theta t - 1 = 0,
+      // theta = d / (2 a_pq): sign(theta) / (|theta| + sqrt(theta^2 + 1)) written as
+      // sign(d) 2 a_pq / (|d| + sqrt(d^2 + 4 a_pq^2)) (one division less on the chain); then
+      // c = 1 / x, s = t c and tau = s / (1 + c) = t / (x + 1) with x = sqrt(t^2 + 1), so that the
+      // two divisions after the second square root are independent
+      const double d = a(q, q) - a(p, p);
+      const double root = std::sqrt(d * d + 4 * apq * apq);
+      double t = (2 * apq) / (std::abs(d) + root);
+      if(d < 0)
         t = -t;
-      const double c = 1. / std::sqrt(t * t + 1.), sn = t * c, tau = sn / (1. + c), h = t * apq;
+      const double x = std::sqrt(t * t + 1.);
+      const double c = 1. / x, sn = t * c, tau = t / (x + 1.), h = t * apq;
       a(p, p) -= h;
       a(q, q) += h;
       a(p, q) = a(q, p) = 0;
