@@ -579,8 +579,9 @@ for level in lv:
         t = b['real_time']
         parts = [('local step', b['local_ms']), ('right-hand side', b['rhs_ms']), ('solve', b['solve_ms'])]
         top = max(parts, key=lambda x: x[1])
-        return 'local %.1f / rhs %.2f / solve %.1f ms; %s dominates (%.0f%%)' % (
-            b['local_ms'], b['rhs_ms'], b['solve_ms'], top[0], 100 * top[1] / t if t else 0)
+        around = ' / around %.2f' % b['around_ms'] if 'around_ms' in b else ''
+        return 'local %.1f / rhs %.2f / solve %.1f%s ms; %s dominates (%.0f%%)' % (
+            b['local_ms'], b['rhs_ms'], b['solve_ms'], around, top[0], 100 * top[1] / t if t else 0)
 
     def row(target, measured, ratio, limit, reason):
         p('| %d | %d | %s | %s | %s | %s | %s | %s | %s |' % (
@@ -677,12 +678,14 @@ p('`build/benchmark/Laplacian_deformation/bench_Mesh_deformer --levels=%s`, each
   'peak MB = VmHWM of the case\'s process (reset at the start of its last call; see above; the preprocess, first_use and new_selection cases reset it again just before their timed part, so that the fresh memory of their rows above is what the timed part touched, not the copy of the mesh made for it); factor: the '
   'analyse + factorise time inside preprocess (ms), the bytes of L (MB) and the factorisation\'s rate (GFlop/s).\n' % levels)
 if benchmarks:
-    p('| benchmark | vertices | ROI | time ms | main-thread CPU ms | timed iterations | local / rhs / solve ms | peak MB | factor ms / MB (bandwidth GB/s) |')
+    p('| benchmark | vertices | ROI | time ms | main-thread CPU ms | timed iterations | local / rhs / solve / around ms | peak MB | factor ms / MB (bandwidth GB/s) |')
     p('|---|---:|---:|---:|---:|---:|---|---|---|')
     for b in benchmarks:
         split = ''
         if 'local_ms' in b:
             split = '%.2f / %.2f / %.2f' % (b['local_ms'], b['rhs_ms'], b['solve_ms'])
+            if 'around_ms' in b:
+                split += ' / %.2f' % b['around_ms']
         if b.get('error_occurred'):
             p('| %s | | | failed: %s | | | | | |' % (b['name'], b.get('error_message', '')))
             continue

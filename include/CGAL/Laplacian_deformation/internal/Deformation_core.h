@@ -490,15 +490,18 @@ public:
                                                             : "the back-substitution failed; nothing was written";
         return result;
       }
-      // displacements scaled by a power of two (exact): their norms neither overflow nor underflow
+      // displacements scaled by a power of two (exact): their norms neither overflow nor underflow;
+      // the largest squared norm, then its square root (the largest norm: the square root is
+      // monotonic and correctly rounded)
       const double unit = normalizing_power_of_two(diagonal);
       double change = 0;
       for(Eigen::Index j = 0; j < nu; ++j)
       {
         Eigen::Vector3d& p = current[m_unknowns[std::size_t(j)]];
-        change = (std::max)(change, (unit * (x.row(j).transpose() - p)).norm());
+        change = (std::max)(change, (unit * (x.row(j).transpose() - p)).squaredNorm());
         p = x.row(j).transpose();
       }
+      change = std::sqrt(change);
       m_solution = x;
       m_has_solution = true;
       if(track_energy)

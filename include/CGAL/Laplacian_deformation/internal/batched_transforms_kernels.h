@@ -33,6 +33,16 @@ constexpr int sub = 4;
 constexpr int sub = lanes;
 #endif
 static_assert(lanes % sub == 0, "");
+// the Jacobi rotations of closest_rotation() run on groups of `jsub` lanes, the groups' rotations
+// issued one after the other so that their chains of divisions and square roots overlap (with
+// AVX-512 two four-lane groups: a rotation's chain is shorter on 256-bit registers, and the two
+// chains together keep the divider busy)
+#if CGAL_LAPDEF_KERNEL_ISA >= 2
+constexpr int jsub = 4;
+#else
+constexpr int jsub = sub;
+#endif
+static_assert(lanes % jsub == 0, "");
 
 // in-place square roots of x[0], ..., x[sub - 1] (aligned to 8 sub bytes)
 CGAL_LAPDEF_KERNEL_ATTR inline void sqrt_sub(double* x)
@@ -53,6 +63,18 @@ CGAL_LAPDEF_KERNEL_ATTR inline void sqrt_sub(double* x)
 #endif
 }
 
+// in-place square roots of x[0], ..., x[jsub - 1] (aligned to 8 jsub bytes)
+CGAL_LAPDEF_KERNEL_ATTR inline void sqrt_jsub(double* x)
+{
+  CGAL_LAPDEF_NO_CONTRACT
+#if CGAL_LAPDEF_KERNEL_ISA >= 2
+  for(int l = 0; l < jsub; l += 4)
+    _mm256_store_pd(x + l, _mm256_sqrt_pd(_mm256_load_pd(x + l)));
+#else
+  sqrt_sub(x);
+#endif
+}
+
 // Scale_fit::clamp(x) (std::clamp: NaN kept)
 #define CGAL_LAPDEF_CLAMP(x)                                                                       \
   ((x) < Scale_fit::min_scale ? Scale_fit::min_scale : (Scale_fit::max_scale < (x) ? Scale_fit::max_scale : (x)))
@@ -67,13 +89,13 @@ struct Jacobi_work
   alignas(64) double e1[3][lanes], e2[3][lanes], b1[3][lanes], b2[3][lanes];
 };
 
-// one Jacobi rotation (p, q) of symmetric_eigen_jacobi_3() in lanes l0, ..., l0 + sub - 1 that
+// one Jacobi rotation (p, q) of symmetric_eigen_jacobi_3() in lanes l0, ..., l0 + jsub - 1 that
 // are not done
 #if defined(__GNUC__) && CGAL_LAPDEF_KERNEL_ISA >= 2
-// (AVX2 and AVX-512 with GCC or Clang: vector types of `sub` lanes, one register each; the plain
+// (AVX2 and AVX-512 with GCC or Clang: vector types of `jsub` lanes, one register each; the plain
 // loops of the #else branch are faster for SSE2, where GCC vectorises them well)
-typedef double Vd __attribute__((vector_size(8 * sub)));
-typedef std::int64_t Vm __attribute__((vector_size(8 * sub)));
+typedef double Vd __attribute__((vector_size(8 * jsub)));
+typedef std::int64_t Vm __attribute__((vector_size(8 * jsub)));
 #define CGAL_LAPDEF_LOAD(v, p) std::memcpy(&(v), (p), sizeof(Vd))
 #define CGAL_LAPDEF_STORE(p, v) std::memcpy((p), &(v), sizeof(Vd))
 #define CGAL_LAPDEF_SELECT(m, x, y) ((Vd)((((Vm)(x)) & (m)) | (((Vm)(y)) & ~(m))))
@@ -96,7 +118,7 @@ CGAL_LAPDEF_KERNEL_ATTR inline void jacobi_rotation(Jacobi_work& w, int l0)
   const Vd d = aqq - app;
   x1 = d * d + 4 * apq * apq;
   CGAL_LAPDEF_STORE(w.x1 + l0, x1);
-  sqrt_sub(w.x1 + l0);
+  sqrt_jsub(w.x1 + l0);
   CGAL_LAPDEF_LOAD(x1, w.x1 + l0);
   const Vd ad = (Vd)((Vm)d & 0x7fffffffffffffffLL);
   const Vd zero = {};
@@ -104,7 +126,7 @@ CGAL_LAPDEF_KERNEL_ATTR inline void jacobi_rotation(Jacobi_work& w, int l0)
   const Vd t = CGAL_LAPDEF_SELECT(d < 0, -t0, t0);
   x2 = t * t + 1.;
   CGAL_LAPDEF_STORE(w.x2 + l0, x2);
-  sqrt_sub(w.x2 + l0);
+  sqrt_jsub(w.x2 + l0);
   CGAL_LAPDEF_LOAD(x2, w.x2 + l0);
   const Vm apply = (done == 0) & (apq != 0);
   const Vd c = 1. / x2, sn = t * c, tau = t / (x2 + 1.), h = t * apq;
@@ -150,14 +172,14 @@ CGAL_LAPDEF_KERNEL_ATTR inline void jacobi_rotation(Jacobi_work& w, int l0)
   constexpr int o = 3 - p - q;
   constexpr int pp = 4 * p, qq = 4 * q, pq = 3 * p + q, qp = 3 * q + p;
   constexpr int op = 3 * o + p, po = 3 * p + o, oq = 3 * o + q, qo = 3 * q + o;
-  for(int l = l0; l < l0 + sub; ++l)
+  for(int l = l0; l < l0 + jsub; ++l)
   {
     const double d = a[qq][l] - a[pp][l], apq = a[pq][l];
     th[l] = d;
     x1[l] = d * d + 4 * apq * apq;
   }
-  sqrt_sub(x1 + l0);
-  for(int l = l0; l < l0 + sub; ++l)
+  sqrt_jsub(x1 + l0);
+  for(int l = l0; l < l0 + jsub; ++l)
   {
     const double d = th[l];
     const double t = (2 * a[pq][l]) / (CGAL_LAPDEF_FABS(d) + x1[l]);
@@ -165,8 +187,8 @@ CGAL_LAPDEF_KERNEL_ATTR inline void jacobi_rotation(Jacobi_work& w, int l0)
     tt[l] = signed_t;
     x2[l] = signed_t * signed_t + 1.;
   }
-  sqrt_sub(x2 + l0);
-  for(int l = l0; l < l0 + sub; ++l)
+  sqrt_jsub(x2 + l0);
+  for(int l = l0; l < l0 + jsub; ++l)
   {
     const double apq = a[pq][l], t = tt[l];
     const bool apply = done[l] == 0 && apq != 0;
@@ -213,39 +235,42 @@ CGAL_LAPDEF_KERNEL_ATTR inline void closest_rotation(const double (&s)[9][lanes]
   double(&e2)[3][lanes] = w.e2;
   double(&b1)[3][lanes] = w.b1;
   double(&b2)[3][lanes] = w.b2;
-  // `sub` lanes at a time (as many as one vector register holds), each group with its own sweeps
+  // a = s^T s
+  for(int i = 0; i < 3; ++i)
+    for(int j = 0; j < 3; ++j)
+      for(int l = 0; l < lanes; ++l)
+        a[3 * i + j][l] = (s[i][l] * s[j][l] + s[3 + i][l] * s[3 + j][l]) + s[6 + i][l] * s[6 + j][l];
+  for(int k = 0; k < 9; ++k)
+    for(int l = 0; l < lanes; ++l)
+      v[k][l] = (k % 4 == 0) ? 1. : 0.;
+  for(int l = 0; l < lanes; ++l)
+    done[l] = 0;
+  // symmetric_eigen_jacobi_3(a, v): a lane stops where the scalar loop returns (a lane that is
+  // done is left as it is while the others go on); each rotation for every group of jsub lanes
+  for(int sweep = 0; sweep < 24; ++sweep)
+  {
+    for(int l = 0; l < lanes; ++l)
+    {
+      const double off = a[1][l] * a[1][l] + a[2][l] * a[2][l] + a[5][l] * a[5][l];
+      const double diag = a[0][l] * a[0][l] + a[4][l] * a[4][l] + a[8][l] * a[8][l];
+      done[l] = (done[l] != 0 || !(off > 1e-32 * diag)) ? 1 : 0;
+    }
+    std::int64_t all_done = 1;
+    for(int l = 0; l < lanes; ++l)
+      all_done &= done[l];
+    if(all_done)
+      break;
+    for(int l0 = 0; l0 < lanes; l0 += jsub)
+      jacobi_rotation<0, 1>(w, l0);
+    for(int l0 = 0; l0 < lanes; l0 += jsub)
+      jacobi_rotation<0, 2>(w, l0);
+    for(int l0 = 0; l0 < lanes; l0 += jsub)
+      jacobi_rotation<1, 2>(w, l0);
+  }
+
+  // `sub` lanes at a time (as many as one vector register holds)
   for(int l0 = 0; l0 < lanes; l0 += sub)
   {
-    // a = s^T s
-    for(int i = 0; i < 3; ++i)
-      for(int j = 0; j < 3; ++j)
-        for(int l = l0; l < l0 + sub; ++l)
-          a[3 * i + j][l] = (s[i][l] * s[j][l] + s[3 + i][l] * s[3 + j][l]) + s[6 + i][l] * s[6 + j][l];
-    for(int k = 0; k < 9; ++k)
-      for(int l = l0; l < l0 + sub; ++l)
-        v[k][l] = (k % 4 == 0) ? 1. : 0.;
-    for(int l = l0; l < l0 + sub; ++l)
-      done[l] = 0;
-
-    // symmetric_eigen_jacobi_3(a, v), a lane stops where the scalar loop returns
-    for(int sweep = 0; sweep < 24; ++sweep)
-    {
-      for(int l = l0; l < l0 + sub; ++l)
-      {
-        const double off = a[1][l] * a[1][l] + a[2][l] * a[2][l] + a[5][l] * a[5][l];
-        const double diag = a[0][l] * a[0][l] + a[4][l] * a[4][l] + a[8][l] * a[8][l];
-        done[l] = (done[l] != 0 || !(off > 1e-32 * diag)) ? 1 : 0;
-      }
-      std::int64_t all_done = 1;
-      for(int l = l0; l < l0 + sub; ++l)
-        all_done &= done[l];
-      if(all_done)
-        break;
-      jacobi_rotation<0, 1>(w, l0);
-      jacobi_rotation<0, 2>(w, l0);
-      jacobi_rotation<1, 2>(w, l0);
-    }
-
     // the eigenvectors of the two largest eigenvalues, then u1 = s v1 / |s v1|
     for(int l = l0; l < l0 + sub; ++l)
     {
