@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -466,6 +467,50 @@ TEST(MeshDeformer, FailedDeformAfterRoiShrinkWritesNothing)
   d.set_target_position(task.controls.front(), m.point(task.controls.front()));
   ASSERT_TRUE(d.deform(1, 0.));
   EXPECT_EQ(positions(m)[std::size_t(leaving)], positions(bumpy_plane())[std::size_t(leaving)]);
+}
+
+// deform() visits the ROI by increasing vertex index whatever the order of insertion: the ROI
+// inserted in three orders (as given, reversed, shuffled) gives bitwise the same positions and
+// the same warnings, and the vertices written are exactly the ROI's (a fold provoked so that
+// the folded-face count, which walks the ROI's faces, is compared too)
+TEST(MeshDeformer, RoiInsertionOrderDoesNotChangeTheResult)
+{
+  const Surface_mesh rest = bumpy_plane();
+  const Task task = patch_task(rest);
+  std::vector<std::vector<vertex_descriptor>> orders(3, task.roi);
+  std::reverse(orders[1].begin(), orders[1].end());
+  std::shuffle(orders[2].begin(), orders[2].end(), std::mt19937(7));
+  std::vector<std::vector<Eigen::Vector3d>> results;
+  std::vector<std::vector<std::pair<int, std::size_t>>> warnings;
+  for(const std::vector<vertex_descriptor>& roi : orders)
+  {
+    Surface_mesh m = rest;
+    LD::Mesh_deformer<Surface_mesh> d(m);
+    d.insert_roi_vertices(roi.begin(), roi.end());
+    d.insert_control_vertices(task.controls.begin(), task.controls.end());
+    d.translate(task.controls.begin(), task.controls.end(), Eigen::Vector3d(0.6, 0, 0.4));
+    ASSERT_TRUE(d.deform(3, 0.));
+    results.push_back(positions(m));
+    warnings.emplace_back();
+    for(const LD::Deformation_warning& w : d.last_result().warnings)
+      warnings.back().emplace_back(int(w.kind), w.count);
+    for(vertex_descriptor v : vertices(m))
+    {
+      if(!d.is_roi_vertex(v))
+      {
+        EXPECT_EQ(m.point(v), rest.point(v));
+      }
+    }
+  }
+  EXPECT_NE(results[0], positions(rest));
+  ASSERT_FALSE(warnings[0].empty());
+  EXPECT_EQ(warnings[0].front().first, int(LD::FOLDED_FACES));
+  EXPECT_GT(warnings[0].front().second, 0u);
+  for(std::size_t k = 1; k < orders.size(); ++k)
+  {
+    EXPECT_EQ(results[k], results[0]) << "order " << k;
+    EXPECT_EQ(warnings[k], warnings[0]) << "order " << k;
+  }
 }
 
 // deform() and preprocess() put back only the vertices they moved (a list of them, not a pass over
