@@ -64,19 +64,20 @@ const Index* branchless_lower_bound(const Index* first, const Index* last, Index
 // for the entries i >= j of row r of A, in increasing i (the same values as `a`'s: A by rows in
 // any form, such as A^T's columns or the operator the caller assembled A from, so that A^T need
 // not be formed). With `lower_only`, only the entries i >= j of N. The result is compressed with
-// sorted columns; every structural entry is kept (also a sum that cancels to zero). A symbolic
-// pass counts the entries of each column, so that the result is allocated once; a dense
-// accumulator and a marker per thread replace the general sparse product's sorting of the whole
-// result. With `parallel` (and TBB), columns are processed on TBB's threads; every entry is the
-// same sum in the same order.
+// sorted columns; every structural entry is kept (also a sum that cancels to zero). Each term is
+// visited once: a dense accumulator and a marker per thread replace the general sparse product's
+// sorting of the whole result, and the columns' entries are gathered in chunks, then copied into
+// the result allocated once. With `parallel` (and TBB), columns are processed on TBB's threads;
+// every entry is the same sum in the same order.
 //
 // The rows of a column are scattered through A's rows (on a mesh, the rows that touch a vertex
 // lie far apart: on the armadillo's Loop subdivision, half of its columns' rows spread over more
 // than two thirds of the rows), so each row is a cache miss behind one or two dependent loads.
 // `prefetch(r, stage)` lets the caller fetch row r ahead of its use, in stages: it is called with
 // stage 0 for the rows of the column `prefetch_columns_ahead` columns ahead (fetch whatever
-// locates the row), then with stage 1 (symbolic pass: the row's indices) or 2 (numeric pass:
-// indices and values) for the rows of the column half as far ahead. The default does nothing.
+// locates the row), then with stage 2 (the row's indices and values) for the rows of the column
+// half as far ahead (stage 1, the indices alone, served a symbolic pass that no longer exists; a
+// functor may still treat it). The default does nothing.
 struct No_row_prefetch
 {
   template <class Index>
@@ -117,7 +118,7 @@ Eigen::SparseMatrix<double> normal_matrix_from_rows(const Eigen::SparseMatrix<do
       rows(a_inner[k], lower_only ? j : Index(0), [&](Index i, double ari) { f(i, arj, ari); });
     }
   };
-  // before column j of [begin, end): the rows of the columns ahead, in two stages
+  // before column j of [0, end): the rows of the columns ahead, in two stages
   auto fetch_ahead = [a_outer, a_inner, &prefetch](Index j, Index end, int stage) {
     const Index far = j + Index(prefetch_columns_ahead), near = j + Index(prefetch_columns_ahead / 2);
     if(far < end)
@@ -127,84 +128,102 @@ Eigen::SparseMatrix<double> normal_matrix_from_rows(const Eigen::SparseMatrix<do
       for(Index k = a_outer[near]; k < a_outer[near + 1]; ++k)
         prefetch(a_inner[k], stage);
   };
-  // the inner loops work on raw pointers held in locals: a write through a vector (a push_back)
-  // would make the compiler reload every captured pointer at each term. One workspace per thread
-  // serves both passes (fresh memory is slow to touch on some machines): the symbolic pass marks
-  // with the column j, the numeric one with -(j + 2), so that no mark of the first pass is taken
-  // for one of the second (-1: never marked). Only the marks are initialised: the numeric pass
-  // writes an accumulator entry before it reads it, and the list of touched rows is a prefix.
+  // One pass over the columns, in chunks of `chunk` columns: each chunk appends its columns'
+  // entries (sorted rows, then values) to buffers of its own and records their counts; the
+  // counts' prefix sums then place every chunk's entries in the result, copied chunk by chunk. The
+  // result does not depend on the threads: a column's entries are those of a sequential pass.
+  // (Until 2026-12-07 a first, symbolic pass counted each column's entries so that the result
+  // could be written in place: every term was visited twice. The price of one pass: the entries
+  // are written twice, and twice into fresh memory, the buffers and then the result (6.3 MB each
+  // for the edge-based system of the 26k armadillo). The buffers are freed once copied, before any
+  // factorisation's memory exists, so the peak does not change.)
+  // The inner loops work on raw pointers held in locals: a write through a vector (a push_back)
+  // would make the compiler reload every captured pointer at each term. One workspace per
+  // thread: the marks (-(j + 2) for column j, -1: never marked; only the marks are initialised:
+  // an accumulator entry is written before it is read, and the list of touched rows is a prefix).
   struct Workspace
   {
     std::vector<Index> mark;
     std::unique_ptr<Index[]> touched;
     std::unique_ptr<double[]> accumulator;
+    std::size_t per_column = 0;   // entries per column of the thread's last chunk (its buffers' estimate)
   };
-  auto workspace = [n](Per_thread<Workspace>& per_thread, bool numeric) -> Workspace& {
+  auto workspace = [n](Per_thread<Workspace>& per_thread) -> Workspace& {
     Workspace& w = per_thread.local();
     if(w.mark.size() != std::size_t(n))
-      w.mark.assign(std::size_t(n), -1);
-    if(numeric && !w.touched)
     {
+      w.mark.assign(std::size_t(n), -1);
       w.touched.reset(new Index[std::size_t(n)]);
       w.accumulator.reset(new double[std::size_t(n)]);
     }
     return w;
   };
+  struct Chunk
+  {
+    std::vector<Index> rows;
+    std::vector<double> values;
+  };
+  constexpr std::size_t chunk = 512;
+  const std::size_t chunks = (std::size_t(n) + chunk - 1) / chunk;
+  std::vector<Chunk> buffers(chunks);
 
   Eigen::SparseMatrix<double> result(n, n);
   Index* outer = result.outerIndexPtr();
   Per_thread<Workspace> per_thread(parallel);
   outer[0] = 0;
-  for_each_block(std::size_t(n), parallel, [&](std::size_t begin, std::size_t end) {
-    Index* const mark = workspace(per_thread, false).mark.data();
-    for(Index j = Index(begin); j < Index(end); ++j)
+  for_each_block(chunks, parallel, [&](std::size_t first_chunk, std::size_t last_chunk) {
+    Workspace& w = workspace(per_thread);
+    Index* const mark = w.mark.data();
+    Index* const touched = w.touched.get();
+    double* const accumulator = w.accumulator.get();
+    for(std::size_t c = first_chunk; c < last_chunk; ++c)
     {
-      fetch_ahead(j, Index(end), 1);
-      Index count = 0;
-      for_each_term(j, [mark, j, &count](Index i, double, double) {
-        if(mark[i] != j)
-        {
-          mark[i] = j;
-          ++count;
-        }
-      });
-      outer[j + 1] = count;
+      const Index begin = Index(c * chunk), end = Index((std::min)((c + 1) * chunk, std::size_t(n)));
+      Chunk& out = buffers[c];
+      // sized by the thread's last chunk, an eighth more: one allocation per buffer in general
+      const std::size_t expected = std::size_t(end - begin) * (w.per_column > 0 ? w.per_column + w.per_column / 8 + 1 : 32);
+      out.rows.reserve(expected);
+      out.values.reserve(expected);
+      for(Index j = begin; j < end; ++j)
+      {
+        fetch_ahead(j, Index(n), 2);   // also across the chunk's end
+        const Index stamp = Index(-2) - j;
+        Index number_touched = 0;
+        for_each_term(j, [mark, touched, accumulator, stamp, &number_touched](Index i, double arj, double ari) {
+          if(mark[i] != stamp)
+          {
+            mark[i] = stamp;
+            accumulator[i] = 0.;
+            touched[number_touched++] = i;
+          }
+          accumulator[i] += arj * ari;
+        });
+        std::sort(touched, touched + number_touched);
+        outer[j + 1] = number_touched;
+        out.rows.insert(out.rows.end(), touched, touched + number_touched);
+        for(Index t = 0; t < number_touched; ++t)
+          out.values.push_back(accumulator[touched[t]]);
+      }
+      w.per_column = (out.rows.size() + std::size_t(end - begin) - 1) / std::size_t(end - begin);
     }
-  }, 512);
+  }, 1);
   for(Eigen::Index j = 0; j < n; ++j)
     outer[j + 1] += outer[j];
   result.resizeNonZeros(outer[n]);
   advise_sparse_storage(result);   // fresh: not written yet
   Index* const inner = result.innerIndexPtr();
   double* const values = result.valuePtr();
-  for_each_block(std::size_t(n), parallel, [&](std::size_t begin, std::size_t end) {
-    Workspace& w = workspace(per_thread, true);
-    Index* const mark = w.mark.data();
-    Index* const touched = w.touched.get();
-    double* const accumulator = w.accumulator.get();
-    for(Index j = Index(begin); j < Index(end); ++j)
+  for_each_block(chunks, parallel, [&](std::size_t first_chunk, std::size_t last_chunk) {
+    for(std::size_t c = first_chunk; c < last_chunk; ++c)
     {
-      fetch_ahead(j, Index(end), 2);
-      const Index stamp = Index(-2) - j;
-      Index number_touched = 0;
-      for_each_term(j, [mark, touched, accumulator, stamp, &number_touched](Index i, double arj, double ari) {
-        if(mark[i] != stamp)
-        {
-          mark[i] = stamp;
-          accumulator[i] = 0.;
-          touched[number_touched++] = i;
-        }
-        accumulator[i] += arj * ari;
-      });
-      std::sort(touched, touched + number_touched);
-      Index next = outer[j];
-      for(Index t = 0; t < number_touched; ++t)
-      {
-        inner[next] = touched[t];
-        values[next++] = accumulator[touched[t]];
-      }
+      Chunk& in = buffers[c];
+      const Index at = outer[c * chunk];
+      std::copy(in.rows.begin(), in.rows.end(), inner + at);
+      std::copy(in.values.begin(), in.values.end(), values + at);
+      std::vector<Index>().swap(in.rows);
+      std::vector<double>().swap(in.values);
     }
-  }, 512);
+  }, 1);
   return result;
 }
 
