@@ -532,7 +532,9 @@ TEST(NormalMatrix, EmptyColumnsAndChunkEdges)
     ASSERT_EQ(lower.rows(), cols);
     ASSERT_EQ(lower.nonZeros(), reference.nonZeros());
     if(cols > 0)   // (Eigen's norm() asserts on an empty matrix)
+    {
       EXPECT_LE((lower - reference).norm(), 1e-14 * (reference.norm() + 1.));
+    }
     for(Eigen::Index j = 0; j < cols; j += 7)
       EXPECT_EQ(lower.outerIndexPtr()[j + 1], lower.outerIndexPtr()[j]);   // the empty columns stay empty
     ASSERT_EQ(parallel.nonZeros(), lower.nonZeros());
