@@ -966,13 +966,29 @@ private:
     }, 4096);
   }
   // the (unnormalised) normal of the k-th ROI face at positions `p`, Newell-like from its first
-  // vertex, on edge vectors scaled by a power of two (no overflow or underflow at any model size)
+  // vertex, on edge vectors scaled by a power of two (no overflow or underflow at any model size);
+  // small enough to be inlined in the folded-face count that follows every deform(): triangles
+  // take triangle_normal(), other polygons polygon_normal()
   Eigen::Vector3d face_normal(const std::vector<Eigen::Vector3d>& p, std::size_t k) const
   {
     const std::size_t first = m_face_start[k], end = m_face_start[k + 1];
-    const Eigen::Vector3d& o = p[m_face_vertex[first]];
     if(end - first == 3)
-      return triangle_normal(o, p[m_face_vertex[first + 1]], p[m_face_vertex[first + 2]]);
+      return triangle_normal(p[m_face_vertex[first]], p[m_face_vertex[first + 1]], p[m_face_vertex[first + 2]]);
+    return polygon_normal(p, first, end);
+  }
+  // face_normal() of a triangle (o, a, b), without loops: the numbers of polygon_normal() (up to
+  // the sign of a zero component)
+  static Eigen::Vector3d triangle_normal(const Eigen::Vector3d& o, const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+  {
+    const Eigen::Vector3d e1 = a - o, e2 = b - o;
+    const double unit =
+        internal::normalizing_power_of_two((std::max)(e1.cwiseAbs().maxCoeff(), e2.cwiseAbs().maxCoeff()));
+    return (unit * e1).cross(unit * e2);
+  }
+  // face_normal() of the face whose vertices are m_face_vertex[first, end)
+  Eigen::Vector3d polygon_normal(const std::vector<Eigen::Vector3d>& p, std::size_t first, std::size_t end) const
+  {
+    const Eigen::Vector3d& o = p[m_face_vertex[first]];
     double largest = 0;
     for(std::size_t i = first + 1; i < end; ++i)
       largest = (std::max)(largest, (p[m_face_vertex[i]] - o).cwiseAbs().maxCoeff());
@@ -981,15 +997,6 @@ private:
     for(std::size_t i = first + 1; i + 1 < end; ++i)
       n += (unit * (p[m_face_vertex[i]] - o)).cross(unit * (p[m_face_vertex[i + 1]] - o));
     return n;
-  }
-  // face_normal() of a triangle (o, a, b), without its loops: the same numbers (up to the sign of
-  // a zero component), inlined in the folded-face count that follows every deform()
-  static Eigen::Vector3d triangle_normal(const Eigen::Vector3d& o, const Eigen::Vector3d& a, const Eigen::Vector3d& b)
-  {
-    const Eigen::Vector3d e1 = a - o, e2 = b - o;
-    const double unit =
-        internal::normalizing_power_of_two((std::max)(e1.cwiseAbs().maxCoeff(), e2.cwiseAbs().maxCoeff()));
-    return (unit * e1).cross(unit * e2);
   }
   // after a successful deform(): folded faces, the preprocess warnings, no motion
   void add_warnings(const std::vector<Eigen::Vector3d>& p)
@@ -1000,14 +1007,7 @@ private:
                              [&](std::size_t begin, std::size_t end) {
       std::size_t count = 0;
       for(std::size_t k = begin; k < end; ++k)
-      {
-        const std::size_t first = m_face_start[k];
-        const Eigen::Vector3d n = m_face_start[k + 1] - first == 3
-                                      ? triangle_normal(p[m_face_vertex[first]], p[m_face_vertex[first + 1]],
-                                                        p[m_face_vertex[first + 2]])
-                                      : face_normal(p, k);
-        count += m_rest_normals[k].dot(n) < 0;
-      }
+        count += m_rest_normals[k].dot(face_normal(p, k)) < 0;
       folded_faces += count;
     }, 4096);
     const std::size_t folded = folded_faces;
