@@ -513,6 +513,99 @@ TEST(MeshDeformer, RoiInsertionOrderDoesNotChangeTheResult)
   }
 }
 
+// A deformer keeps per-vertex state across selections (the roles, the unknown index), written at
+// the ROI's vertices only: selections made one after the other on one deformer (small ones, whose
+// vertices are sorted, and a large one, read from the ROI flags; a selection that fails in the
+// core between them) give bitwise the positions of a fresh deformer with the same selection
+TEST(MeshDeformer, SuccessiveSelectionsGiveTheResultOfAFreshDeformer)
+{
+  const Surface_mesh rest = to_mesh<Surface_mesh>(bumpy_plane_soup(40, 0.08));   // 1,681 vertices
+  const std::vector<Eigen::Vector3d> rest_positions = positions(rest);
+  auto disc = [&](double x, double y, double radius) {
+    Task t;
+    for(vertex_descriptor v : vertices(rest))
+    {
+      const Point_3& p = rest.point(v);
+      const double r2 = CGAL::square(p.x() - x) + CGAL::square(p.y() - y);
+      if(r2 < radius * radius)
+        t.roi.push_back(v);
+      if(r2 < radius * radius / 9)
+        t.controls.push_back(v);
+    }
+    return t;
+  };
+  const Task small = disc(0.3, 0.3, 0.07), other = disc(0.7, 0.6, 0.07), large = patch_task(rest);
+  ASSERT_LT(small.roi.size(), num_vertices(rest) / 64);   // sorted
+  ASSERT_LT(other.roi.size(), num_vertices(rest) / 64);
+  ASSERT_GT(large.roi.size(), num_vertices(rest) / 2);    // read from the flags
+  ASSERT_FALSE(small.controls.empty());
+  ASSERT_FALSE(other.controls.empty());
+  ASSERT_FALSE(large.controls.empty());
+  const Eigen::Vector3d offset(0.02, -0.01, 0.05);
+  auto select = [&](LD::Mesh_deformer<Surface_mesh>& d, const Task& t) {
+    d.clear_roi_vertices();
+    d.insert_roi_vertices(t.roi.begin(), t.roi.end());
+    d.insert_control_vertices(t.controls.begin(), t.controls.end());
+    for(vertex_descriptor v : t.controls)
+      d.set_target_position(v, to_point(rest_positions[std::size_t(v)] + offset));
+  };
+  auto fresh = [&](const Task& t) {
+    Surface_mesh m = rest;
+    LD::Mesh_deformer<Surface_mesh> d(m);
+    select(d, t);
+    EXPECT_TRUE(d.deform(3, 0.));
+    return positions(m);
+  };
+  Surface_mesh m = rest;
+  LD::Mesh_deformer<Surface_mesh> d(m);
+  std::size_t step = 0;
+  for(const Task* t : {&small, &large, &other, &small})
+  {
+    SCOPED_TRACE("selection " + std::to_string(step++));
+    select(d, *t);
+    ASSERT_TRUE(d.deform(3, 0.));
+    const std::vector<Eigen::Vector3d> expected = fresh(*t);
+    EXPECT_NE(expected, rest_positions);
+    EXPECT_EQ(positions(m), expected);
+    // then a selection that fails in the core (every vertex free: nothing anchors the plane)
+    const std::vector<Eigen::Vector3d> before = positions(m);
+    d.clear_roi_vertices();
+    for(vertex_descriptor v : vertices(m))
+      d.insert_roi_vertex(v);
+    EXPECT_FALSE(d.preprocess());
+    EXPECT_EQ(d.last_result().status, LD::UNANCHORED_REGION);
+    EXPECT_EQ(positions(m), before);
+  }
+}
+
+// The rest positions are checked when they are read (by the constructor and by
+// overwrite_initial_geometry()), and a non-finite one is reported by the next preprocess()
+TEST(MeshDeformer, NonFiniteRestPositionsAreFoundWhereverTheyAreRead)
+{
+  Surface_mesh m = bumpy_plane();
+  const Task task = patch_task(m);
+  LD::Mesh_deformer<Surface_mesh> d(m);
+  d.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  d.insert_control_vertices(task.controls.begin(), task.controls.end());
+  ASSERT_TRUE(d.preprocess());
+  const vertex_descriptor far_away = *vertices(m).begin();     // a fixed vertex, outside the ROI
+  ASSERT_FALSE(d.is_roi_vertex(far_away));
+  const Point_3 kept = m.point(far_away);
+  m.point(far_away) = Point_3(0, std::numeric_limits<double>::quiet_NaN(), 0);
+  d.overwrite_initial_geometry();
+  EXPECT_FALSE(d.preprocess());
+  EXPECT_EQ(d.last_result().status, LD::NON_FINITE_INPUT);
+  m.point(far_away) = kept;
+  d.overwrite_initial_geometry();
+  EXPECT_TRUE(d.preprocess());
+  Surface_mesh broken = bumpy_plane();
+  broken.point(far_away) = Point_3(std::numeric_limits<double>::infinity(), 0, 0);
+  LD::Mesh_deformer<Surface_mesh> e(broken);
+  e.insert_roi_vertices(task.roi.begin(), task.roi.end());
+  EXPECT_FALSE(e.preprocess());
+  EXPECT_EQ(e.last_result().status, LD::NON_FINITE_INPUT);
+}
+
 // deform() and preprocess() put back only the vertices they moved (a list of them, not a pass over
 // the mesh): a vertex that leaves the ROI, comes back, is reset, leaves again, or leaves after
 // overwrite_initial_geometry() is at its rest position whenever it is outside the ROI after a

@@ -103,6 +103,9 @@ public:
 
   /// creates a deformer for `tm`, whose current positions become the rest positions, with
   /// default-constructed policies. `tm` must outlive the deformer, and its topology must not change.
+  /// Every constructor makes one pass over the vertices and one over the halfedges of `tm` (it
+  /// copies the rest positions, notes whether they are finite, and counts the halfedges pointing to
+  /// each vertex); the calls after it cost what their region of interest costs (see \ref LapDefSolve).
   explicit Mesh_deformer(Triangle_mesh& tm)
     : Mesh_deformer(Construct(), tm, get(CGAL::vertex_point, tm), internal::Default_policy()) {}
   /// creates a deformer for `tm` whose points are given by `vpm`, with default-constructed policies.
@@ -169,6 +172,17 @@ private:
     for(vertex_descriptor v : vertices(m_tm))
       if(index(v) < m_number_of_vertices)
         m_vertex_at_index[index(v)] = v;
+    scan_rest_positions();
+    // the number of halfedges pointing to each vertex (one sequential pass over the halfedges), for
+    // check_umbrellas() (polygon faces are fine: LapDefPolygons); the topology never changes
+    m_pointing.assign(m_number_of_vertices, 0);
+    for(auto h : halfedges(m_tm))
+    {
+      const std::size_t i = index(target(h, m_tm));
+      if(i < m_number_of_vertices)
+        ++m_pointing[i];
+    }
+    m_umbrella_checked.assign(m_number_of_vertices, 0);
   }
 
 public:
@@ -402,23 +416,42 @@ public:
       return false;
     if(m_rigidity_weight > 0)
       build_rigidity_rows();
-    std::vector<unsigned char> role(m_number_of_vertices, internal::FIXED_VERTEX);
-    for(vertex_descriptor v : m_roi)
-      role[index(v)] = !m_is_control[index(v)] ? internal::FREE_VERTEX
+    // the roles, in m_next_role: fixed everywhere but at the ROI's vertices (written here, and
+    // written back to fixed on failure, or once they are the previous roles): the cost is the
+    // ROI's, not the mesh's
+    std::vector<std::size_t> roi_index = roi_by_index();
+    if(m_next_role.size() != m_number_of_vertices)
+      m_next_role.assign(m_number_of_vertices, internal::FIXED_VERTEX);
+    for(std::size_t i : roi_index)
+      m_next_role[i] = !m_is_control[i] ? internal::FREE_VERTEX
                        : m_soft ? internal::SOFT_CONTROL_VERTEX : internal::HARD_CONTROL_VERTEX;
-    m_last = m_rigidity_weight > 0
-                 ? m_core.preprocess(m_stencils, m_rigid_d, m_rigid_delta, m_rest_nodes, role, m_soft_weight, &m_rigid_owner)
-                 : m_core.preprocess(m_stencils, m_d, m_delta, m_rest_nodes, role, m_soft_weight);
+    try
+    {
+      m_last = m_rigidity_weight > 0
+                   ? m_core.preprocess(m_stencils, m_rigid_d, m_rigid_delta, m_rest_nodes, m_next_role, m_soft_weight,
+                                       &m_rigid_owner, &roi_index)
+                   : m_core.preprocess(m_stencils, m_d, m_delta, m_rest_nodes, m_next_role, m_soft_weight, nullptr,
+                                       &roi_index);
+    }
+    catch(...)
+    {
+      for(std::size_t i : roi_index)
+        m_next_role[i] = internal::FIXED_VERTEX;
+      throw;
+    }
     m_last.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if(!m_last)
+    {
+      for(std::size_t i : roi_index)
+        m_next_role[i] = internal::FIXED_VERTEX;
       return false;
+    }
     m_need_preprocess = false;
-    m_role.swap(role);
-    m_roi_index.clear();   // the ROI by increasing vertex index (one pass over the flags, like `role`)
-    m_roi_index.reserve(m_roi.size());
-    for(std::size_t i = 0; i < m_number_of_vertices; ++i)
-      if(m_is_roi[i])
-        m_roi_index.push_back(i);
+    m_role.swap(m_next_role);
+    if(m_next_role.size() == m_number_of_vertices)   // the previous roles: fixed again
+      for(std::size_t i : m_roi_index)
+        m_next_role[i] = internal::FIXED_VERTEX;
+    m_roi_index.swap(roi_index);
     m_row_nodes.clear();
     for(std::size_t a : m_core.rows())
       m_row_nodes.push_back(m_stencils.node_index(a));
@@ -525,7 +558,7 @@ public:
         m_rotation_known[index(v)] = to_vector(m_target[index(v)]) == m_rest[index(v)];
       }
     m_operator_ready = false;
-    m_mesh_checked = false;
+    scan_rest_positions();
     m_need_preprocess = true;
   }
   /// the outcome of the last `preprocess()` or `deform()`.
@@ -698,32 +731,51 @@ private:
     }
     m_moved_vertices.resize(kept);
   }
+  // the ROI's vertex indices, increasing: sorted when the ROI is small next to the mesh, else by
+  // one pass over the ROI flags (the same list either way: the ROI holds each vertex once)
+  std::vector<std::size_t> roi_by_index() const
+  {
+    std::vector<std::size_t> r;
+    r.reserve(m_roi.size());
+    if(m_roi.size() < m_number_of_vertices / 64)
+    {
+      for(vertex_descriptor v : m_roi)
+        r.push_back(index(v));
+      std::sort(r.begin(), r.end());
+    }
+    else
+      for(std::size_t i = 0; i < m_number_of_vertices; ++i)
+        if(m_is_roi[i])
+          r.push_back(i);
+    return r;
+  }
   bool check_topology()
   {
     if(num_vertices(m_tm) == m_number_of_vertices && num_edges(m_tm) == m_number_of_edges)
       return true;
     return fail(TOPOLOGY_CHANGED, "the mesh's topology changed since the deformer was constructed");
   }
-  // once: finite rest positions (and their largest coordinate, for the weights' scaling: see
-  // internal::build_rest_operator()), and the number of halfedges pointing to each vertex (one
-  // sequential pass over the halfedges) for check_umbrellas() (polygon faces are fine: LapDefPolygons)
-  bool check_mesh()
+  // whether the rest positions are finite, and their largest coordinate (for the weights' scaling:
+  // see internal::build_rest_operator()); by the constructor and overwrite_initial_geometry(), which
+  // read every rest position anyway, so that preprocess() costs what its region costs (before
+  // 2026-12-07 the first preprocess() scanned the whole mesh: 3.8 ms at 416k vertices)
+  void scan_rest_positions()
   {
-    if(m_mesh_checked)
-      return true;
     double largest = 0;
+    bool finite = true;
     for(const Eigen::Vector3d& p : m_rest)
     {
-      if(!p.allFinite())
-        return fail(NON_FINITE_INPUT, "a rest position of the mesh is not finite");
+      finite = finite && p.allFinite();
       largest = (std::max)(largest, p.cwiseAbs().maxCoeff());
     }
-    m_largest_coordinate = largest;
-    m_pointing.assign(m_number_of_vertices, 0);
-    for(auto h : halfedges(m_tm))
-      ++m_pointing[index(target(h, m_tm))];
-    m_umbrella_checked.assign(m_number_of_vertices, 0);
-    return m_mesh_checked = true;
+    m_rest_finite = finite;
+    m_largest_coordinate = finite ? largest : 0.;
+  }
+  bool check_mesh()
+  {
+    if(!m_rest_finite)
+      return fail(NON_FINITE_INPUT, "a rest position of the mesh is not finite");
+    return true;
   }
   // the vertices whose umbrellas the operator was built from (every vertex of a built node's
   // combination) are manifold: the halfedges pointing to the vertex form one umbrella (the cycle
@@ -1067,6 +1119,7 @@ private:
   std::vector<std::uint32_t> m_face_vertex;               // vertices (32-bit indices: see Deformation_core)
   std::vector<Eigen::Vector3d> m_rest_normals;             // and their rest normals
   std::vector<unsigned char> m_is_roi, m_is_control, m_moved, m_role;
+  std::vector<unsigned char> m_next_role;         // prepare()'s roles: fixed but at the ROI being prepared
   std::vector<std::size_t> m_moved_vertices;   // a superset of the vertices whose m_moved is set
   std::vector<Point> m_target;
   Weight_policy m_weights;
@@ -1098,9 +1151,9 @@ private:
   double m_tolerance = 1e-4;
   bool m_soft = false;
   bool m_operator_ready = false;
-  bool m_mesh_checked = false;
-  double m_largest_coordinate = 0;                  // of the rest positions (check_mesh())
-  std::vector<std::uint32_t> m_pointing;            // per vertex: the halfedges pointing to it (check_mesh())
+  bool m_rest_finite = true;                        // every rest position is finite (scan_rest_positions())
+  double m_largest_coordinate = 0;                  // of the rest positions (scan_rest_positions())
+  std::vector<std::uint32_t> m_pointing;            // per vertex: the halfedges pointing to it (constructor)
   std::vector<unsigned char> m_umbrella_checked;    // per vertex: its umbrella found manifold (check_umbrellas())
   bool m_foreign_vertex = false;
   bool m_need_preprocess = true;

@@ -66,12 +66,15 @@ public:
 
   // `d`: the full operator (rows x vertices, by rows); `delta` = D p_rest; `rest_nodes` = P p_rest.
   // Row r of D uses the transform of node `owner[r]` (b_r = T_owner delta_r); without `owner`,
-  // the rows are the nodes themselves (row a is node a's Laplacian row).
+  // the rows are the nodes themselves (row a is node a's Laplacian row). `candidates` (optional):
+  // the vertices that may be unknown, increasing, every vertex whose role is not FIXED_VERTEX among
+  // them (the ROI): then no loop of this call runs over the vertices of the mesh.
   Deformation_result preprocess(const Laplacian_stencils& s, const Operator& d,
                                 const Eigen::MatrixX3d& delta,
                                 const std::vector<Eigen::Vector3d>& rest_nodes,
                                 const std::vector<unsigned char>& role, double soft_weight,
-                                const std::vector<std::size_t>* owner = nullptr)
+                                const std::vector<std::size_t>* owner = nullptr,
+                                const std::vector<std::size_t>* candidates = nullptr)
   {
     Deformation_result result;
     m_ready = false;
@@ -83,14 +86,30 @@ public:
     if(n > std::size_t((std::numeric_limits<int>::max)()))
       throw std::length_error("Laplacian_deformation: the mesh is too large for the system's 32-bit indices "
                               "(more than 2^31 - 1 vertices)");
-    assign_huge(m_unknown_index, n, -1);
+    // the unknown index per vertex persists across calls: -1 but at the last call's unknowns,
+    // which are cleared (a new selection on a large mesh does not rewrite an array of the mesh's size)
+    if(m_unknown_index.size() != n)
+      assign_huge(m_unknown_index, n, -1);
+    else
+      for(std::size_t v : m_unknowns)
+        m_unknown_index[v] = -1;
     m_unknowns.clear();
-    for(std::size_t v = 0; v < n; ++v)
+    auto add_if_unknown = [this, &role](std::size_t v) {
       if(is_unknown(role[v]))
       {
         m_unknown_index[v] = static_cast<int>(m_unknowns.size());
         m_unknowns.push_back(v);
       }
+    };
+    if(candidates != nullptr)
+    {
+      CGAL_assertion(std::is_sorted(candidates->begin(), candidates->end()));
+      for(std::size_t v : *candidates)
+        add_if_unknown(v);
+    }
+    else
+      for(std::size_t v = 0; v < n; ++v)
+        add_if_unknown(v);
     const Eigen::Index nu = static_cast<Eigen::Index>(m_unknowns.size());
 
     // rows: every row of D that touches an unknown vertex, in increasing order; the nodes whose
@@ -413,8 +432,8 @@ public:
       const std::size_t v = std::size_t(m_known.innerIndexPtr()[k]);
       if(m_unknown_index[v] == -1)
       {
+        m_known_vertices.push_back(v);   // before the mark: an exception leaves no mark behind
         m_unknown_index[v] = -2;
-        m_known_vertices.push_back(v);
       }
     }
     for(std::size_t v : m_known_vertices)
