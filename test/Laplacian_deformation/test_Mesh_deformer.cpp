@@ -513,10 +513,11 @@ TEST(MeshDeformer, RoiInsertionOrderDoesNotChangeTheResult)
   }
 }
 
-// A deformer keeps per-vertex state across selections (the roles, the unknown index), written at
-// the ROI's vertices only: selections made one after the other on one deformer (small ones, whose
-// vertices are sorted, and a large one, read from the ROI flags; a selection that fails in the
-// core between them) give bitwise the positions of a fresh deformer with the same selection
+// A deformer keeps per-vertex state across selections (the roles, the unknown index, the
+// rotation-aware start's groups and field values), written at the ROI's vertices only: selections
+// made one after the other on one deformer (small ones, whose vertices are sorted, and a large one,
+// read from the ROI flags; a selection that fails in the core between them) give bitwise the
+// positions of a fresh deformer with the same selection, with either start
 TEST(MeshDeformer, SuccessiveSelectionsGiveTheResultOfAFreshDeformer)
 {
   const Surface_mesh rest = to_mesh<Surface_mesh>(bumpy_plane_soup(40, 0.08));   // 1,681 vertices
@@ -529,7 +530,7 @@ TEST(MeshDeformer, SuccessiveSelectionsGiveTheResultOfAFreshDeformer)
       const double r2 = CGAL::square(p.x() - x) + CGAL::square(p.y() - y);
       if(r2 < radius * radius)
         t.roi.push_back(v);
-      if(r2 < radius * radius / 9)
+      if(r2 < radius * radius / 4)
         t.controls.push_back(v);
     }
     return t;
@@ -542,30 +543,42 @@ TEST(MeshDeformer, SuccessiveSelectionsGiveTheResultOfAFreshDeformer)
   ASSERT_FALSE(other.controls.empty());
   ASSERT_FALSE(large.controls.empty());
   const Eigen::Vector3d offset(0.02, -0.01, 0.05);
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitZ()));
   auto select = [&](LD::Mesh_deformer<Surface_mesh>& d, const Task& t) {
     d.clear_roi_vertices();
     d.insert_roi_vertices(t.roi.begin(), t.roi.end());
-    d.insert_control_vertices(t.controls.begin(), t.controls.end());
-    for(vertex_descriptor v : t.controls)
-      d.set_target_position(v, to_point(rest_positions[std::size_t(v)] + offset));
+    for(vertex_descriptor v : t.controls)   // targets at rest, then turned about the handle's first vertex
+    {
+      d.insert_control_vertex(v);
+      d.set_target_position(v, rest.point(v));
+      d.rotate(v, rest_positions[std::size_t(t.controls.front())], turn);
+    }
+    d.translate(t.controls.begin(), t.controls.end(), offset);
   };
+  std::vector<std::vector<Eigen::Vector3d>> first_results;   // per start: the first selection's
+  for(LD::Deformation_start start : {LD::IDENTITY_START, LD::ROTATION_START})
+  {
   auto fresh = [&](const Task& t) {
     Surface_mesh m = rest;
     LD::Mesh_deformer<Surface_mesh> d(m);
+    d.set_start(start);
     select(d, t);
     EXPECT_TRUE(d.deform(3, 0.));
     return positions(m);
   };
   Surface_mesh m = rest;
   LD::Mesh_deformer<Surface_mesh> d(m);
+  d.set_start(start);
   std::size_t step = 0;
   for(const Task* t : {&small, &large, &other, &small})
   {
-    SCOPED_TRACE("selection " + std::to_string(step++));
+    SCOPED_TRACE("start " + std::to_string(int(start)) + ", selection " + std::to_string(step++));
     select(d, *t);
     ASSERT_TRUE(d.deform(3, 0.));
     const std::vector<Eigen::Vector3d> expected = fresh(*t);
     EXPECT_NE(expected, rest_positions);
+    if(step == 1)
+      first_results.push_back(expected);
     EXPECT_EQ(positions(m), expected);
     // then a selection that fails in the core (every vertex free: nothing anchors the plane)
     const std::vector<Eigen::Vector3d> before = positions(m);
@@ -576,6 +589,9 @@ TEST(MeshDeformer, SuccessiveSelectionsGiveTheResultOfAFreshDeformer)
     EXPECT_EQ(d.last_result().status, LD::UNANCHORED_REGION);
     EXPECT_EQ(positions(m), before);
   }
+  }
+  ASSERT_EQ(first_results.size(), 2u);
+  EXPECT_NE(first_results[0], first_results[1]);   // the rotation-aware start was used
 }
 
 // The rest positions are checked when they are read (by the constructor and by

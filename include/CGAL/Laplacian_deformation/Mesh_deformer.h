@@ -678,7 +678,16 @@ private:
     }
     if(!rotated)
       return true;                       // a pure translation: exactly the identity start
-    std::vector<Eigen::Vector3d> values;
+    // the field's values per vertex: 0 but at the ROI's vertices, which are set back to 0 after use
+    std::vector<Eigen::Vector3d>& values = m_start_values;
+    if(values.size() != m_number_of_vertices)
+      values.assign(m_number_of_vertices, Eigen::Vector3d::Zero());
+    struct Clear
+    {
+      const internal::Rotation_start_field& field;
+      std::vector<Eigen::Vector3d>& values;
+      ~Clear() { field.clear_values(values); }
+    } clear{m_field, values};
     if(!m_field.propagate(omega, values))
       return fail(SOLVE_FAILED, "the harmonic field of the rotation-aware start could not be solved");
     const internal::Laplacian_stencils& s = m_stencils;
@@ -1130,6 +1139,7 @@ private:
   std::vector<Eigen::Vector3d> m_rest_nodes;
   internal::Deformation_core<Transform_policy, Solver_traits, ConcurrencyTag> m_core;
   internal::Rotation_start_field m_field;
+  std::vector<Eigen::Vector3d> m_start_values;      // apply_start()'s field values: 0 but during a call
   std::vector<Eigen::Quaterniond> m_target_rotation;   // per control: the rotation given by rotate()
   std::vector<unsigned char> m_rotation_known;         // whether it is known (see rotate())
   Deformation_start m_start = IDENTITY_START;

@@ -115,57 +115,77 @@ public:
     typedef typename GT::halfedge_descriptor halfedge_descriptor;
     const std::size_t n = rest.size();
     m_ready = false;
-    m_group.assign(n, -1);
+    // the per-vertex arrays are kept from build to build, -1 but at the vertices the last build
+    // wrote (listed in m_written, cleared here): a build costs what the ROI costs, not the mesh
+    if(m_group.size() != n)
+    {
+      m_group.assign(n, -1);
+      m_unknown.assign(n, -1);
+    }
+    else
+      for(std::size_t i : m_written)
+        m_group[i] = m_unknown[i] = -1;
+    m_written.clear();
     m_groups.clear();
-    m_unknown.assign(n, -1);
     m_unknowns.clear();
     m_couplings.clear();
     auto idx = [&](auto v) { return std::size_t(get(vim, v)); };
 
-    // control groups: connected components of the controls along mesh edges
-    std::vector<std::size_t> parent(n);
-    std::iota(parent.begin(), parent.end(), std::size_t(0));
-    auto find = [&parent](std::size_t i) {
-      while(parent[i] != i)
-        i = parent[i] = parent[parent[i]];
-      return i;
-    };
-    std::vector<typename GT::vertex_descriptor> roi_vertices;
+    // the ROI's unknowns, and its controls numbered in ROI order (their number in m_group until
+    // the groups replace it)
+    std::vector<typename GT::vertex_descriptor> roi_vertices, controls;
     for(auto v : roi)
       roi_vertices.push_back(v);
     for(auto v : roi_vertices)
     {
       const std::size_t i = idx(v);
-      if(!is_control[i])
+      m_written.push_back(i);
+      if(is_control[i])
+      {
+        m_group[i] = long(controls.size());
+        controls.push_back(v);
+      }
+      else
       {
         m_unknown[i] = long(m_unknowns.size());
         m_unknowns.push_back(i);
-        continue;
       }
+    }
+    // control groups: connected components of the controls along mesh edges (the controls are ROI
+    // vertices), found over the controls' numbers
+    std::vector<std::size_t> parent(controls.size());
+    std::iota(parent.begin(), parent.end(), std::size_t(0));
+    auto find = [&parent](std::size_t k) {
+      while(parent[k] != k)
+        k = parent[k] = parent[parent[k]];
+      return k;
+    };
+    for(std::size_t k = 0; k < controls.size(); ++k)
+    {
+      const auto v = controls[k];
       if(halfedge(v, tm) == GT::null_halfedge())
         continue;
       for(halfedge_descriptor h : CGAL::halfedges_around_target(halfedge(v, tm), tm))
       {
         const std::size_t j = idx(source(h, tm));
-        if(is_control[j])
-          parent[find(i)] = find(j);
+        if(is_control[j] && m_group[j] >= 0)
+          parent[find(k)] = find(std::size_t(m_group[j]));
       }
     }
-    std::vector<long> root_group(n, -1);
-    for(auto v : roi_vertices)
+    // the groups, numbered in the ROI order of their first control
+    std::vector<long> root_group(controls.size(), -1);
+    for(std::size_t k = 0; k < controls.size(); ++k)
     {
-      const std::size_t i = idx(v);
-      if(!is_control[i])
-        continue;
-      long& g = root_group[find(i)];
+      long& g = root_group[find(k)];
       if(g < 0)
       {
         g = long(m_groups.size());
         m_groups.emplace_back();
       }
-      m_group[i] = g;
-      m_groups[std::size_t(g)].push_back(i);
+      m_groups[std::size_t(g)].push_back(idx(controls[k]));
     }
+    for(std::size_t k = 0; k < controls.size(); ++k)
+      m_group[idx(controls[k])] = root_group[find(k)];
 
     // edge weights around the unknowns: (cot of the angles opposite the edge) / 2, clamped at 0
     auto cot_opposite = [&](halfedge_descriptor h) {
@@ -242,15 +262,22 @@ public:
   const std::vector<std::vector<std::size_t> >& groups() const { return m_groups; }
   std::size_t number_of_factorizations() const { return m_factorizations; }
   long group_of(std::size_t vertex) const { return m_group[vertex]; }
+  // sets the ROI's entries of `values` back to 0 (after propagate())
+  void clear_values(std::vector<Eigen::Vector3d>& values) const
+  {
+    for(std::size_t i : m_written)
+      values[i] = Eigen::Vector3d::Zero();
+  }
 
-  // the vertex values of sum_g phi_g omega_g (0 outside the ROI); false if the solve fails
+  // the vertex values of sum_g phi_g omega_g at the ROI's vertices, written into `values` (one
+  // entry per vertex of the mesh; the others are left as they are: the caller keeps them 0, and
+  // clear_values() sets the ROI's back to 0); false if the solve fails
   bool propagate(const std::vector<Eigen::Vector3d>& omega, std::vector<Eigen::Vector3d>& values) const
   {
-    const std::size_t n = m_group.size();
-    values.assign(n, Eigen::Vector3d::Zero());
-    for(std::size_t v = 0; v < n; ++v)
-      if(m_group[v] >= 0)
-        values[v] = omega[std::size_t(m_group[v])];
+    CGAL_precondition(values.size() == m_group.size());
+    for(std::size_t g = 0; g < m_groups.size(); ++g)
+      for(std::size_t v : m_groups[g])
+        values[v] = omega[g];
     if(m_unknowns.empty())
       return true;
     Eigen::MatrixX3d rhs = Eigen::MatrixX3d::Zero(Eigen::Index(m_unknowns.size()), 3);
@@ -267,7 +294,8 @@ public:
   // phi_g on every vertex (0 outside the ROI); false if the solve fails
   bool field(std::size_t g, std::vector<double>& phi) const
   {
-    std::vector<Eigen::Vector3d> omega(m_groups.size(), Eigen::Vector3d::Zero()), values;
+    std::vector<Eigen::Vector3d> omega(m_groups.size(), Eigen::Vector3d::Zero()),
+        values(m_group.size(), Eigen::Vector3d::Zero());
     omega[g] = Eigen::Vector3d::UnitX();
     if(!propagate(omega, values))
       return false;
@@ -282,6 +310,7 @@ private:
   std::vector<long> m_group;                        // per vertex: its control group, or -1
   std::vector<std::vector<std::size_t> > m_groups;  // per group: its vertex indices
   std::vector<long> m_unknown;                      // per vertex: its unknown index, or -1
+  std::vector<std::size_t> m_written;               // the vertices whose m_group or m_unknown the last build set (the ROI)
   std::vector<std::size_t> m_unknowns;              // the ROI's non-control vertices
   std::vector<Coupling> m_couplings;                // unknown row -- control neighbour, weight
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double> > m_ldlt;
