@@ -428,10 +428,9 @@ public:
     try
     {
       m_last = m_rigidity_weight > 0
-                   ? m_core.preprocess(m_stencils, m_rigid_d, m_rigid_delta, m_rest_nodes, m_next_role, m_soft_weight,
-                                       &m_rigid_owner, &roi_index)
-                   : m_core.preprocess(m_stencils, m_d, m_delta, m_rest_nodes, m_next_role, m_soft_weight, nullptr,
-                                       &roi_index);
+                   ? m_core.preprocess(m_stencils, m_rigid_d, m_rigid_delta, m_rest_nodes, m_next_role, roi_index,
+                                       m_soft_weight, &m_rigid_owner)
+                   : m_core.preprocess(m_stencils, m_d, m_delta, m_rest_nodes, m_next_role, roi_index, m_soft_weight);
     }
     catch(...)
     {

@@ -66,15 +66,14 @@ public:
 
   // `d`: the full operator (rows x vertices, by rows); `delta` = D p_rest; `rest_nodes` = P p_rest.
   // Row r of D uses the transform of node `owner[r]` (b_r = T_owner delta_r); without `owner`,
-  // the rows are the nodes themselves (row a is node a's Laplacian row). `candidates` (optional):
-  // the vertices that may be unknown, increasing, every vertex whose role is not FIXED_VERTEX among
-  // them (the ROI): then no loop of this call runs over the vertices of the mesh.
+  // the rows are the nodes themselves (row a is node a's Laplacian row). `role` is per vertex of
+  // the mesh; `roi`: the vertices whose role is not FIXED_VERTEX, increasing (no loop of this
+  // call runs over the vertices of the mesh).
   Deformation_result preprocess(const Laplacian_stencils& s, const Operator& d,
                                 const Eigen::MatrixX3d& delta,
                                 const std::vector<Eigen::Vector3d>& rest_nodes,
-                                const std::vector<unsigned char>& role, double soft_weight,
-                                const std::vector<std::size_t>* owner = nullptr,
-                                const std::vector<std::size_t>* candidates = nullptr)
+                                const std::vector<unsigned char>& role, const std::vector<std::size_t>& roi,
+                                double soft_weight, const std::vector<std::size_t>* owner = nullptr)
   {
     Deformation_result result;
     m_ready = false;
@@ -94,22 +93,13 @@ public:
       for(std::size_t v : m_unknowns)
         m_unknown_index[v] = -1;
     m_unknowns.clear();
-    auto add_if_unknown = [this, &role](std::size_t v) {
+    CGAL_assertion(std::is_sorted(roi.begin(), roi.end()));
+    for(std::size_t v : roi)
       if(is_unknown(role[v]))
       {
         m_unknown_index[v] = static_cast<int>(m_unknowns.size());
         m_unknowns.push_back(v);
       }
-    };
-    if(candidates != nullptr)
-    {
-      CGAL_assertion(std::is_sorted(candidates->begin(), candidates->end()));
-      for(std::size_t v : *candidates)
-        add_if_unknown(v);
-    }
-    else
-      for(std::size_t v = 0; v < n; ++v)
-        add_if_unknown(v);
     const Eigen::Index nu = static_cast<Eigen::Index>(m_unknowns.size());
 
     // rows: every row of D that touches an unknown vertex, in increasing order; the nodes whose
