@@ -181,7 +181,8 @@ TEST(CholmodSupernodalLlt, ThreeColumnSolveMatchesCholmodForEveryKernelAndSchedu
 // BLAS, subtrees on several threads) against CHOLMOD's own supernodal factorisation of the same
 // analysis: the same values of L within round-off, sequential and parallel, at the first
 // factorisation and at a refactorisation of new values on the same pattern; the parallel factor
-// does not depend on the threads' timing.
+// (whose largest fronts at the top split their dtrsm into blocks of rows and their dsyrk into
+// panels of dsyrk and dgemm) does not depend on the threads' timing.
 TEST(CholmodSupernodalLlt, MultifrontalFactorMatchesCholmodFactor)
 {
   const LD::internal::Dense_kernels& blas = LD::internal::Dense_kernels::instance();
@@ -208,10 +209,13 @@ TEST(CholmodSupernodalLlt, MultifrontalFactorMatchesCholmodFactor)
       EXPECT_TRUE(sequential.last_factorization_was_multifrontal());
       EXPECT_TRUE(parallel.last_factorization_was_multifrontal());
       EXPECT_EQ(sequential.number_of_concurrent_subtrees(), 0u);
+      EXPECT_EQ(sequential.number_of_split_fronts(), 0u);
 #ifdef CGAL_LINKED_WITH_TBB
       if(side > 100)
       {
         EXPECT_GE(parallel.number_of_concurrent_subtrees(), 2u);
+        // the largest fronts of the top have their dtrsm and dsyrk split on TBB's threads
+        EXPECT_GE(parallel.number_of_split_fronts(), 1u);
       }
 #endif
       if(blas.get_threads)

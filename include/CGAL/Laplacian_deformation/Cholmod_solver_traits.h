@@ -60,10 +60,13 @@ the permuted matrix and its children's update matrices, in the children's order)
 diagonal block with LAPACK's `dpotrf`, the block below with BLAS `dtrsm`, and leaves its
 ancestors' update with `dsyrk`: one call of each per supernode, where CHOLMOD's own supernodal
 factorisation makes a pair of BLAS calls per (descendant, supernode) pair, most of them on small
-blocks. With \tbb, disjoint subtrees of the elimination tree are factored concurrently (the BLAS on
-one thread each: with OpenBLAS, its process-wide thread count is set to 1 for that phase and
-restored after it), then the supernodes above them one after the other, the BLAS with its own
-threads. The factor lands in CHOLMOD's layout (the same symbolic factor, `factor()`), equal to
+blocks. With \tbb, disjoint subtrees of the elimination tree are factored concurrently, then the
+supernodes above them one after the other, a large one's `dtrsm` split into blocks of rows and its
+`dsyrk` into panels of columns (`dsyrk` and `dgemm`) on \tbb's threads. The BLAS always runs on the
+thread that calls it: with OpenBLAS, its process-wide thread count is set to 1 during the
+factorisation and restored after it, since OpenBLAS's own threads, once used, spin for about
+2^28 processor cycles after each call (about 0.1 s) and took one of two cores from the iterations
+that followed (see \ref LapDefPerformance). The factor lands in CHOLMOD's layout (the same symbolic factor, `factor()`), equal to
 CHOLMOD's own factorisation up to round-off, and does not depend on the threads' timing. The BLAS
 and LAPACK routines are the ones loaded with CHOLMOD, found at run time; where they are not found
 (or a shift is set), `factorize()` is CHOLMOD's. A pivot that is not positive, NaN included, gives
@@ -212,6 +215,12 @@ public:
   std::size_t number_of_concurrent_subtrees() const
   {
     return m_last_multifrontal ? m_multifrontal_engine.number_of_subtrees() : 0;
+  }
+  /// the number of supernodes whose `dtrsm` and `dsyrk` the last multifrontal factorisation split
+  /// on \tbb's threads (0: none)
+  std::size_t number_of_split_fronts() const
+  {
+    return m_last_multifrontal ? m_multifrontal_engine.number_of_split_fronts() : 0;
   }
 
   /// whether `solve_columns()` may run the substitutions of three columns on \tbb's threads

@@ -11,15 +11,20 @@
 // diagonal block (LAPACK dpotrf), solves the block below it (BLAS dtrsm) and leaves the update
 // matrix of its ancestors (BLAS dsyrk): one call of each per supernode, on blocks as large as the
 // supernode, instead of one pair of calls per (descendant, supernode) pair. Disjoint subtrees of
-// the supernodal elimination tree are factored on TBB's threads, the BLAS on one thread each; the
-// supernodes above them (the top, whose blocks are the largest) one after the other, the BLAS with
-// its own threads. Each supernode's arithmetic is fixed (its children are assembled in index
-// order), so the factor does not depend on the threads' timing.
+// the supernodal elimination tree are factored on TBB's threads; the supernodes above them (the
+// top, whose blocks are the largest) one after the other, each large one's dtrsm split into blocks
+// of rows and its dsyrk into panels of columns (dsyrk on the panel's diagonal block, dgemm below
+// it), the pieces on TBB's threads. The BLAS itself always runs on the calling thread: OpenBLAS's
+// own threads, once used, spin (sched_yield) for about 2^28 cycles after each call, and took one
+// of two cores from the TBB threads of the deform() calls that followed a preprocess() (see
+// Cholmod_supernodal_llt). Each supernode's arithmetic is fixed (its children are assembled in
+// index order, the pieces' bounds depend on the sizes only), so the factor does not depend on the
+// threads' timing.
 //
 // The BLAS and LAPACK routines are those already loaded with CHOLMOD, found at run time (dlsym);
 // where they are not found (or on systems without dlsym) `available()` is false and the caller uses
-// CHOLMOD's own factorisation. With OpenBLAS, its thread count is set to 1 while subtrees are
-// factored concurrently and restored afterwards (a process-wide setting of OpenBLAS).
+// CHOLMOD's own factorisation. With OpenBLAS, its thread count is set to 1 during the factorisation
+// and restored afterwards (a process-wide setting of OpenBLAS).
 
 #include <CGAL/Laplacian_deformation/internal/huge_pages.h>
 #include <CGAL/Laplacian_deformation/internal/parallel.h>
@@ -38,7 +43,9 @@
 #endif
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -59,11 +66,14 @@ struct Dense_kernels
                        const double*, const double*, const int*, double*, const int*);
   typedef void (*Syrk)(const char*, const char*, const int*, const int*, const double*, const double*,
                        const int*, const double*, double*, const int*);
+  typedef void (*Gemm)(const char*, const char*, const int*, const int*, const int*, const double*,
+                       const double*, const int*, const double*, const int*, const double*, double*, const int*);
   typedef void (*Set_threads)(int);
   typedef int (*Get_threads)();
   Potrf potrf = nullptr;
   Trsm trsm = nullptr;
   Syrk syrk = nullptr;
+  Gemm gemm = nullptr;                 // only for the top's split updates (none: not split)
   Set_threads set_threads = nullptr;   // OpenBLAS's, when it is the BLAS
   Get_threads get_threads = nullptr;
 
@@ -77,6 +87,7 @@ struct Dense_kernels
       d.potrf = reinterpret_cast<Potrf>(dlsym(RTLD_DEFAULT, "dpotrf_"));
       d.trsm = reinterpret_cast<Trsm>(dlsym(RTLD_DEFAULT, "dtrsm_"));
       d.syrk = reinterpret_cast<Syrk>(dlsym(RTLD_DEFAULT, "dsyrk_"));
+      d.gemm = reinterpret_cast<Gemm>(dlsym(RTLD_DEFAULT, "dgemm_"));
       d.set_threads = reinterpret_cast<Set_threads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
       d.get_threads = reinterpret_cast<Get_threads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
       if(d.set_threads == nullptr || d.get_threads == nullptr)
@@ -234,6 +245,8 @@ public:
     m_on_stack.assign(ns, 0);
     m_exported.resize(ns);
     m_failed_column = l.n;
+    m_split_fronts = 0;
+    One_blas_thread guard(blas);   // restored on leaving, also by an exception
 #ifdef CGAL_LINKED_WITH_TBB
     if(parallel && m_subtrees.size() >= 2)
     {
@@ -244,14 +257,13 @@ public:
       for(int root : m_subtrees)
         subtree_peak = (std::max)(subtree_peak, stack_peak(l, m_first[std::size_t(root)], root + 1, nullptr, root));
       {
-        One_blas_thread guard(blas);   // restored on leaving, also by an exception
         Per_thread<Workspace> per_thread(true);
         tbb::parallel_for(std::size_t(0), m_subtrees.size(), [&](std::size_t t) {
           Workspace& w = per_thread.local();   // one per thread, not per subtree (first touches)
           w.reserve(std::size_t(l.n), subtree_peak);
           const int root = m_subtrees[t];
           for(int s = m_first[std::size_t(root)]; s <= root && failed[t] == l.n; ++s)
-            failed[t] = front(l, values, s, w, blas);
+            failed[t] = front(l, values, s, w, blas, false);
           if(failed[t] == l.n)
             export_update(l, root, w);
         }, tbb::simple_partitioner());
@@ -263,17 +275,15 @@ public:
       Workspace w;
       w.reserve(std::size_t(l.n), stack_peak(l, 0, 0, &m_top, -1));
       for(int s : m_top)
-        if((m_failed_column = front(l, values, s, w, blas)) != l.n)
+        if((m_failed_column = front(l, values, s, w, blas, true)) != l.n)
           break;
       return release(), m_failed_column;
     }
-#else
-    CGAL_USE(parallel);
 #endif
     Workspace w;
     w.reserve(std::size_t(l.n), stack_peak(l, 0, 0, &m_order, -1));
     for(int s : m_order)
-      if((m_failed_column = front(l, values, s, w, blas)) != l.n)
+      if((m_failed_column = front(l, values, s, w, blas, parallel)) != l.n)
         break;
     return release(), m_failed_column;
   }
@@ -281,6 +291,8 @@ public:
   // the number of subtrees factored concurrently (0: sequential), and the top's share of the work
   std::size_t number_of_subtrees() const { return m_subtrees.size() >= 2 ? m_subtrees.size() : 0; }
   double top_share() const { return m_top_share; }
+  // the fronts whose update the last factor() split on TBB's threads
+  std::size_t number_of_split_fronts() const { return m_split_fronts; }
 
 private:
   // The update matrices live on a stack: the supernodes are factored in a postorder of the
@@ -466,8 +478,49 @@ private:
     m_top_share = top / total;
   }
 
-  // assembles, factors and leaves the update matrix of supernode s; returns n or the failed column
-  int front(const Supernodal_factor_target& l, const double* values, int s, Workspace& w, const Dense_kernels& blas)
+  // The update of a large front on TBB's threads: X21 := X21 L11^-T by blocks of rows (independent
+  // rows), then U -= X21 X21^T by panels of columns of U's lower triangle, each dsyrk on the
+  // panel's diagonal block and dgemm below it, the panels' bounds chosen for about equal work
+  // (equal areas of the triangle). The pieces depend on m and nc only: the same arithmetic
+  // whichever thread runs them. False (nothing done) when the front is too small to gain from it
+  // (or dgemm was not found, or without TBB).
+  static bool split_update(const Dense_kernels& blas, double* x, int nr, int nc, int m, double* u)
+  {
+#ifdef CGAL_LINKED_WITH_TBB
+    // below about 2e6 multiply-adds (a fraction of a millisecond) the tasks' overhead eats the gain
+    if(blas.gemm == nullptr || m < 128 || double(m) * double(nc) * double(m + nc) < 4e6)
+      return false;
+    const double one = 1., minus_one = -1.;
+    const int pieces = (std::min)(16, m / 64);
+    double* const x21 = x + nc;
+    tbb::parallel_for(0, pieces, [&](int p) {
+      const int r0 = int(std::int64_t(m) * p / pieces), r1 = int(std::int64_t(m) * (p + 1) / pieces), mr = r1 - r0;
+      blas.trsm("R", "L", "T", "N", &mr, &nc, &one, x, &nr, x21 + r0, &nr);
+    }, tbb::simple_partitioner());
+    // panel p holds columns [a_p, a_{p+1}) with (m - a_p)^2 = m^2 (1 - p / pieces)
+    std::vector<int> bound(std::size_t(pieces) + 1);
+    for(int p = 0; p <= pieces; ++p)
+      bound[std::size_t(p)] = m - int(std::lround(double(m) * std::sqrt(1. - double(p) / double(pieces))));
+    tbb::parallel_for(0, pieces, [&](int p) {
+      const int a = bound[std::size_t(p)], b = bound[std::size_t(p) + 1], w = b - a, below = m - b;
+      if(w <= 0)
+        return;
+      double* const panel = u + std::size_t(a) * std::size_t(m);
+      blas.syrk("L", "N", &w, &nc, &minus_one, x21 + a, &nr, &one, panel + a, &m);
+      if(below > 0)
+        blas.gemm("N", "T", &below, &w, &nc, &minus_one, x21 + b, &nr, x21 + a, &nr, &one, panel + b, &m);
+    }, tbb::simple_partitioner());
+    return true;
+#else
+    CGAL_USE(blas); CGAL_USE(x); CGAL_USE(nr); CGAL_USE(nc); CGAL_USE(m); CGAL_USE(u);
+    return false;
+#endif
+  }
+
+  // assembles, factors and leaves the update matrix of supernode s; returns n or the failed column.
+  // `split`: a large front's update is split on TBB's threads (split_update())
+  int front(const Supernodal_factor_target& l, const double* values, int s, Workspace& w, const Dense_kernels& blas,
+            bool split)
   {
     const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s], m = nr - nc;
     const int* rows = l.rows + l.pi[s];
@@ -537,8 +590,13 @@ private:
     if(m > 0)
     {
       const double one = 1., minus_one = -1.;
-      blas.trsm("R", "L", "T", "N", &m, &nc, &one, x, &nr, x + nc, &nr);
-      blas.syrk("L", "N", &m, &nc, &minus_one, x + nc, &nr, &one, u, &m);
+      if(split && split_update(blas, x, nr, nc, m, u))
+        ++m_split_fronts;   // only the top's fronts, one after the other
+      else
+      {
+        blas.trsm("R", "L", "T", "N", &m, &nc, &one, x, &nr, x + nc, &nr);
+        blas.syrk("L", "N", &m, &nc, &minus_one, x + nc, &nr, &one, u, &m);
+      }
     }
     // the children's are added: this one takes their place on the stack
     m_update[std::size_t(s)] = nullptr;
@@ -566,6 +624,7 @@ private:
   std::vector<char> m_on_stack;    // whether it is on a stack (otherwise in m_exported, or none)
   std::vector<std::unique_ptr<double, Free>> m_exported;   // the subtree roots' (parallel factorisation)
   int m_failed_column = 0;
+  std::size_t m_split_fronts = 0;
 };
 
 } // namespace internal
