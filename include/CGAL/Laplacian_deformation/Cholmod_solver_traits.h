@@ -223,8 +223,10 @@ public:
     return m_last_multifrontal ? m_multifrontal_engine.number_of_split_fronts() : 0;
   }
 
-  /// whether `solve_columns()` may run the substitutions of three columns on \tbb's threads
-  /// (default: `true`; without \tbb it never does)
+  /// whether `solve_columns()` may run the substitutions of three columns, and `factorize()` its
+  /// multifrontal factorisation (subtrees, split fronts), on \tbb's threads (default: `true`;
+  /// without \tbb they never do; with `false` the whole factorisation runs on the calling thread,
+  /// OpenBLAS included)
   void set_parallel(bool parallel) { m_parallel = parallel; }
   /// see `set_parallel()`
   bool is_parallel() const { return m_parallel; }
