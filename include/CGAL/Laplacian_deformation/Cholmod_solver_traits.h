@@ -65,8 +65,8 @@ supernodes above them one after the other, a large one's `dtrsm` split into bloc
 `dsyrk` into panels of columns (`dsyrk` and `dgemm`) on \tbb's threads. The BLAS always runs on the
 thread that calls it: with OpenBLAS, its process-wide thread count is set to 1 during the
 factorisation and restored after it, since OpenBLAS's own threads, once used, spin for about
-2^28 processor cycles after each call (about 0.1 s) and took one of two cores from the iterations
-that followed (see \ref LapDefPerformance). The factor lands in CHOLMOD's layout (the same symbolic factor, `factor()`), equal to
+2^28 processor cycles after each call (about 0.1 s), taking a core from the iterations that
+follow on a machine with few cores (see \ref LapDefParallel). The factor lands in CHOLMOD's layout (the same symbolic factor, `factor()`), equal to
 CHOLMOD's own factorisation up to round-off, and does not depend on the threads' timing. The BLAS
 and LAPACK routines are the ones loaded with CHOLMOD, found at run time; where they are not found
 (or a shift is set), `factorize()` is CHOLMOD's. A pivot that is not positive, NaN included, gives

@@ -15,9 +15,9 @@
 // top, whose blocks are the largest) one after the other, each large one's dtrsm split into blocks
 // of rows and its dsyrk into panels of columns (dsyrk on the panel's diagonal block, dgemm below
 // it), the pieces on TBB's threads. The BLAS itself always runs on the calling thread: OpenBLAS's
-// own threads, once used, spin (sched_yield) for about 2^28 cycles after each call, and took one
-// of two cores from the TBB threads of the deform() calls that followed a preprocess() (see
-// Cholmod_supernodal_llt). Each supernode's arithmetic is fixed (its children are assembled in
+// own threads, once used, spin (sched_yield) for about 2^28 cycles after each call, taking a core
+// from the TBB threads of the deform() calls that follow a preprocess() on a machine with few
+// cores (see Cholmod_supernodal_llt). Each supernode's arithmetic is fixed (its children are assembled in
 // index order, the pieces' bounds depend on the sizes only), so the factor does not depend on the
 // threads' timing.
 //
@@ -487,7 +487,8 @@ private:
   static bool split_update(const Dense_kernels& blas, double* x, int nr, int nc, int m, double* u)
   {
 #ifdef CGAL_LINKED_WITH_TBB
-    // below about 2e6 multiply-adds (a fraction of a millisecond) the tasks' overhead eats the gain
+    // below about 4e6 multiply-adds (m nc (m + nc): well under a millisecond on one thread) the
+    // tasks' overhead would eat the gain
     if(blas.gemm == nullptr || m < 128 || double(m) * double(nc) * double(m + nc) < 4e6)
       return false;
     const double one = 1., minus_one = -1.;
