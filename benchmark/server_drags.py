@@ -19,6 +19,7 @@ import argparse
 import http.client
 import json
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -70,6 +71,7 @@ def run_once(args):
     finally:
         server.kill()
         server.wait()
+        shutil.rmtree(out, ignore_errors=True)   # the server writes there only on /api/save
 
 
 def main():
