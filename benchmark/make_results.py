@@ -648,7 +648,7 @@ for level in lv:
                     'own substitutions on CHOLMOD\'s supernodal factor (Cholmod_supernodal_llt::solve_columns): three '
                     'columns interleaved, each supernode swept two columns at a time with the next pair prefetched (AVX2+FMA '
                     'kernels where the processor has them), subtrees of the elimination tree on TBB\'s threads, level after level (%d levels of up to '
-                    '%d groups); %.0f%% of the factor\'s values are left to one thread (the top)' % (
+                    '%d groups), then the top\'s large supernodes by panels cut into pieces on the threads; %.1f%% of the factor\'s values are left to one thread' % (
                         int(b.get('solve_levels', 0)), int(b.get('solve_groups', 1)),
                         100 * b.get('solve_sequential_share', 1)))
 if 1 in edge_iter and 2 in edge_iter:

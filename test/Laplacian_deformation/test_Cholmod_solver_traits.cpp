@@ -135,7 +135,8 @@ TEST(CholmodSupernodalLlt, SolveColumnsFollowsANewPermutation)
 // tree on several threads) against CHOLMOD's own solve, for every kernel this processor runs and
 // both schedules; the parallel schedule is deterministic and differs from the sequential one by
 // round-off only (the subtrees, cut level after level of the elimination tree, send their updates
-// to later levels in another order); a new analysis (another pattern) gets a new schedule.
+// to later levels in another order; the top's large supernodes are swept by panels cut into
+// pieces on several threads); a new analysis (another pattern) gets a new schedule.
 TEST(CholmodSupernodalLlt, ThreeColumnSolveMatchesCholmodForEveryKernelAndSchedule)
 {
   namespace B = LD::internal::batched;
@@ -165,6 +166,7 @@ TEST(CholmodSupernodalLlt, ThreeColumnSolveMatchesCholmodForEveryKernelAndSchedu
       EXPECT_GT(llt.number_of_parallel_groups(), 1u);
       EXPECT_GE(llt.number_of_parallel_levels(), 2u) << "the supernodes above the first level's subtrees are cut again";
       EXPECT_LT(llt.sequential_share(), 0.5);
+      EXPECT_GE(llt.number_of_split_supernodes(), 1u) << "the top's largest supernodes are substituted in pieces";
 #endif
       EXPECT_TRUE(parallel == again) << "the parallel substitutions do not depend on the threads' timing";
       EXPECT_LE((sequential - reference).norm(), 1e-12 * reference.norm()) << int(target);

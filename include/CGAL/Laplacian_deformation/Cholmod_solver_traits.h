@@ -77,10 +77,13 @@ CHOLMOD's supernodal factor, supernode by supernode, without BLAS calls (OpenBLA
 idle while the transforms are fitted on \tbb's threads). For three right-hand sides (the
 deformation's x, y, z) the columns are kept interleaved, every value of the factor is read once per
 substitution, and, with \tbb, disjoint subtrees of the supernodal elimination tree are substituted
-on several threads (`set_parallel()`), level after level of the tree, the last supernodes (the top)
-on one thread: the result does not depend on the threads' timing, and
-differs from the sequential one only by round-off (the updates that several subtrees send to the
-same ancestor are summed in another order). Other numbers of columns go through one supernode at a
+on several threads (`set_parallel()`), level after level of the tree, then the last supernodes (the
+top) one after the other; the top's large supernodes (64k values and more) are swept by panels of
+64 columns, each panel's rows below its diagonal block (forward) or its columns' dot products with
+the rows after it (backward) cut into pieces on \tbb's threads. The result does not depend on the
+threads' timing or their number, and differs from the sequential one only by round-off (the
+updates that several subtrees send to the same ancestor are summed in another order, and a split
+supernode's backward dot products are summed in two parts). Other numbers of columns go through one supernode at a
 time with \eigen's matrix-vector kernels. Both compute CHOLMOD's solution up to round-off.
 Everything else (`compute()`, `solve()`, `info()`, `cholmod()`) is `Eigen::CholmodSupernodalLLT`'s.
 
@@ -315,8 +318,15 @@ public:
   /// each level ends with a barrier, see `solve_columns()`)
   std::size_t number_of_parallel_levels() const { return m_parallel_groups > 1 ? m_schedule.number_of_levels() : 0; }
   /// the share of the factor's values that the last three-column solve substituted on one thread
-  /// (the supernodes above the concurrent subtrees; 1 when sequential)
+  /// (the supernodes above the concurrent subtrees, but for the parts of the split ones substituted
+  /// in pieces; 1 when sequential)
   double sequential_share() const { return m_parallel_groups > 1 ? m_schedule.sequential_share() : 1.; }
+  /// the number of supernodes above the concurrent subtrees (the top) that the last three-column
+  /// solve split between the threads (see `solve_columns()`; 0 when sequential)
+  std::size_t number_of_split_supernodes() const
+  {
+    return m_parallel_groups > 1 ? m_schedule.number_of_split_supernodes() : 0;
+  }
 
 private:
   internal::Supernodal_factor_target factor_target() const

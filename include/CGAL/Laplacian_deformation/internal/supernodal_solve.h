@@ -33,6 +33,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <queue>
 #include <utility>
 #include <vector>
@@ -318,6 +319,7 @@ public:
   {
     m_levels.clear();
     m_top.clear();
+    m_top_split.clear();
     m_n = l.n;
     m_nsuper = l.nsuper;
     const int ns = l.nsuper;
@@ -452,12 +454,24 @@ public:
       }
     }
     double top_work = 0;
+    m_chunks = m_levels.empty() ? 1 : (std::max)(2, bins / 2);
     for(int s = 0; s < ns; ++s)
       if(remaining[std::size_t(s)])
       {
-        top_work += double(l.pi[s + 1] - l.pi[s]) * double(l.super[s + 1] - l.super[s]);
+        const int nc = l.super[s + 1] - l.super[s], nr = l.pi[s + 1] - l.pi[s];
+        const bool split = m_chunks > 1 && double(nr) * double(nc) >= split_values;
         m_top.push_back(s);
+        m_top_split.push_back(split ? 1 : 0);
+        if(!split)
+          top_work += double(nr) * double(nc);
+        else   // only the panels' diagonal triangles are left to one thread
+          for(int p = 0; p < nc; p += panel_columns)
+          {
+            const double w = double((std::min)(p + panel_columns, nc) - p);
+            top_work += w * (w + 1.) / 2.;
+          }
       }
+    m_split_supernodes = std::size_t(std::count(m_top_split.begin(), m_top_split.end(), char(1)));
     m_sequential_share = m_levels.empty() ? 1. : (total > 0 ? top_work / total : 1.);
   }
 
@@ -472,8 +486,11 @@ public:
   }
   // the number of levels that run in parallel (each ends with a barrier)
   std::size_t number_of_levels() const { return m_levels.size(); }
-  // the share of the factor's values in the supernodes substituted by one thread (the top)
+  // the share of the factor's values substituted by one thread: the top's supernodes, but for the
+  // diagonal triangles of the panels of its split ones
   double sequential_share() const { return m_sequential_share; }
+  // the number of the top's supernodes whose substitutions are split between the threads
+  std::size_t number_of_split_supernodes() const { return m_split_supernodes; }
 
   // L Y = Y (forward) then L^T Y = Y (backward), Y interleaved (3 doubles per row)
   void solve(const Supernodal_factor_view& l, double* y, bool parallel) const
@@ -562,7 +579,11 @@ private:
     Workspace& ws = m_workspaces[0];
     ws.w.resize(3 * max_rows(l, 0, l.nsuper - 1));
     for(std::size_t k = 0; k < m_top.size(); ++k)
-      forward_supernode(l, m_top[k], k + 1 < m_top.size() ? m_top[k + 1] : -1, y, ws.w.data(), l.n, nullptr, nullptr);
+      if(parallel && m_top_split[k])
+        forward_split_supernode(l, m_top[k], y, ws.w.data());
+      else
+        forward_supernode(l, m_top[k], k + 1 < m_top.size() ? m_top[k + 1] : -1, y, ws.w.data(), l.n, nullptr,
+                          nullptr);
   }
 
   void backward(const Supernodal_factor_view& l, double* y, bool parallel) const
@@ -571,7 +592,10 @@ private:
       Workspace& ws = m_workspaces[0];
       ws.w.resize(3 * max_rows(l, 0, l.nsuper - 1));
       for(std::size_t k = m_top.size(); k-- > 0;)
-        backward_supernode(l, m_top[k], k > 0 ? m_top[k - 1] : -1, y, ws.w.data());
+        if(parallel && m_top_split[k])
+          backward_split_supernode(l, m_top[k], y, ws.w.data());
+        else
+          backward_supernode(l, m_top[k], k > 0 ? m_top[k - 1] : -1, y, ws.w.data());
     }
     for(auto lv = m_levels.rbegin(); lv != m_levels.rend(); ++lv)
       for_each_bin(*lv, parallel, [&](std::size_t b) {
@@ -729,8 +753,236 @@ private:
     }
   }
 
+  // f(begin, end) over [begin, end) cut into up to m_chunks pieces of at least `grain` (their
+  // bounds multiples of `align` from `begin`), on TBB's threads
+  template <class F>
+  void for_each_chunk(int begin, int end, int grain, int align, const F& f) const
+  {
+    const int count = (std::min)(m_chunks, (std::max)(1, (end - begin) / grain));
+#ifdef CGAL_LINKED_WITH_TBB
+    if(count > 1)
+    {
+      const int units = (end - begin + align - 1) / align;
+      tbb::parallel_for(0, count, [&](int k) {
+        const int b = begin + align * int(std::int64_t(units) * k / count);
+        const int e = k + 1 == count ? end : begin + align * int(std::int64_t(units) * (k + 1) / count);
+        if(b < e)
+          f(b, e);
+      }, tbb::simple_partitioner());
+      return;
+    }
+#endif
+    (void)align;
+    f(begin, end);
+  }
+
+  // forward_supernode() for a large supernode of the top (parallel schedules only), by panels of
+  // `panel_columns` columns (even, so that the pairs of columns are those of forward_supernode()):
+  // a panel's pairs are solved and update the panel's own rows on one thread, then they update the
+  // rows below the panel, cut into pieces on TBB's threads. Every row sees the same updates in the
+  // same order through the same kernels as in forward_supernode(): the same result, bit for bit.
+  void forward_split_supernode(const Supernodal_factor_view& l, int s, double* y, double* w) const
+  {
+    const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s];
+    const double* block = l.values + l.px[s];
+    double* ys = y + 3 * std::size_t(k0);
+    double* z0 = w;
+    double* z1 = w + nr;
+    double* z2 = w + 2 * std::size_t(nr);
+    for(int i = 0; i < nc; ++i)
+    {
+      z0[i] = ys[3 * i];
+      z1[i] = ys[3 * i + 1];
+      z2[i] = ys[3 * i + 2];
+    }
+    std::fill(z0 + nc, z0 + nr, 0.);
+    std::fill(z1 + nc, z1 + nr, 0.);
+    std::fill(z2 + nc, z2 + nr, 0.);
+    double a[3 * panel_columns];   // the panel's solved rows: per pair a[0..5] as in forward_supernode()
+    for(int p = 0; p < nc; p += panel_columns)
+    {
+      const int e = (std::min)(p + panel_columns, nc);
+      int j = p;
+      for(; j + 1 < e; j += 2)
+      {
+        const double* c = block + std::size_t(j) * std::size_t(nr);
+        const double* d = c + nr;
+        double* aj = a + 3 * (j - p);
+        const double ic = 1. / c[j];
+        aj[0] = z0[j] * ic;
+        aj[1] = z1[j] * ic;
+        aj[2] = z2[j] * ic;
+        const double id = 1. / d[j + 1];
+        aj[3] = (z0[j + 1] - c[j + 1] * aj[0]) * id;
+        aj[4] = (z1[j + 1] - c[j + 1] * aj[1]) * id;
+        aj[5] = (z2[j + 1] - c[j + 1] * aj[2]) * id;
+        z0[j] = aj[0];
+        z1[j] = aj[1];
+        z2[j] = aj[2];
+        z0[j + 1] = aj[3];
+        z1[j + 1] = aj[4];
+        z2[j + 1] = aj[5];
+        m_kernels.update2(c + j + 2, d + j + 2, e - j - 2, c, d, aj, z0 + j + 2, z1 + j + 2, z2 + j + 2);
+      }
+      if(j < e)   // the last column of an odd count
+      {
+        const double* c = block + std::size_t(j) * std::size_t(nr);
+        double* aj = a + 3 * (j - p);
+        const double inverse = 1. / c[j];
+        aj[0] = z0[j] * inverse;
+        aj[1] = z1[j] * inverse;
+        aj[2] = z2[j] * inverse;
+        z0[j] = aj[0];
+        z1[j] = aj[1];
+        z2[j] = aj[2];
+        m_kernels.update(c + j + 1, e - j - 1, aj, z0 + j + 1, z1 + j + 1, z2 + j + 1);
+      }
+      for_each_chunk(e, nr, split_rows, 8, [&](int r0, int r1) {
+        int q = p;
+        for(; q + 1 < e; q += 2)
+        {
+          const double* c = block + std::size_t(q) * std::size_t(nr);
+          const double* ahead = q + 3 < nc ? c + 2 * std::size_t(nr) : c;
+          m_kernels.update2(c + r0, c + nr + r0, r1 - r0, ahead + r0, ahead + nr + r0, a + 3 * (q - p), z0 + r0,
+                            z1 + r0, z2 + r0);
+        }
+        if(q < e)
+          m_kernels.update(block + std::size_t(q) * std::size_t(nr) + r0, r1 - r0, a + 3 * (q - p), z0 + r0,
+                           z1 + r0, z2 + r0);
+      });
+    }
+    for(int i = 0; i < nc; ++i)
+    {
+      ys[3 * i] = z0[i];
+      ys[3 * i + 1] = z1[i];
+      ys[3 * i + 2] = z2[i];
+    }
+    const int* r = l.rows + l.pi[s];
+    for(int i = nc; i < nr; ++i)
+    {
+      double* t = y + 3 * std::size_t(r[i]);
+      t[0] += z0[i];
+      t[1] += z1[i];
+      t[2] += z2[i];
+    }
+  }
+
+  // backward_supernode() for a large supernode of the top (parallel schedules only): the dot
+  // products of the columns with the rows below the block as there, the pairs of columns cut into
+  // pieces on TBB's threads (the same result); then the diagonal block by panels of
+  // `panel_columns` columns from the last: the dot products of a panel's columns with the rows after
+  // the panel (already solved) on TBB's threads, then the panel's own triangle on one thread. A
+  // column's dot product with the block's rows is then two sums instead of one: the result differs
+  // from backward_supernode()'s by round-off, and does not depend on the number of threads.
+  void backward_split_supernode(const Supernodal_factor_view& l, int s, double* y, double* w) const
+  {
+    const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s], m = nr - nc;
+    const double* block = l.values + l.px[s];
+    double* ys = y + 3 * std::size_t(k0);
+    double* z0 = w;
+    double* z1 = w + nr;
+    double* z2 = w + 2 * std::size_t(nr);
+    const int* r = l.rows + l.pi[s];
+    for(int i = nc; i < nr; ++i)
+    {
+      const double* yr = y + 3 * std::size_t(r[i]);
+      z0[i] = yr[0];
+      z1[i] = yr[1];
+      z2[i] = yr[2];
+    }
+    // z[j] = y[j] minus the dot products of the columns [j0, j1) (j0 even) with the rows below the
+    // block, as in backward_supernode()
+    const auto below = [&](int j0, int j1) {
+      int j = j0;
+      for(; m > 0 && j + 1 < j1; j += 2)
+      {
+        double t[6];
+        const double* c = block + std::size_t(j) * std::size_t(nr) + nc;
+        const double* ahead = j + 3 < j1 ? c + 2 * std::size_t(nr) : c;
+        m_kernels.dot2(c, c + nr, m, ahead, ahead + nr, z0 + nc, z1 + nc, z2 + nc, t);
+        z0[j] = ys[3 * j] - t[0];
+        z1[j] = ys[3 * j + 1] - t[1];
+        z2[j] = ys[3 * j + 2] - t[2];
+        z0[j + 1] = ys[3 * j + 3] - t[3];
+        z1[j + 1] = ys[3 * j + 4] - t[4];
+        z2[j + 1] = ys[3 * j + 5] - t[5];
+      }
+      for(; j < j1; ++j)
+      {
+        double t[3] = {0, 0, 0};
+        if(m > 0)
+          m_kernels.dot(block + std::size_t(j) * std::size_t(nr) + nc, m, z0 + nc, z1 + nc, z2 + nc, t);
+        z0[j] = ys[3 * j] - t[0];
+        z1[j] = ys[3 * j + 1] - t[1];
+        z2[j] = ys[3 * j + 2] - t[2];
+      }
+    };
+    // pieces of columns that hold at least as many values as a piece of forward_split_supernode()
+    const auto column_grain = [](int len) {
+      const int g = (split_rows * panel_columns + len - 1) / (std::max)(1, len);
+      return (std::max)(2, g + (g & 1));
+    };
+    for_each_chunk(0, nc, m > 0 ? column_grain(m) : nc, 2, below);
+    const int last = (nc - 1) / panel_columns * panel_columns;
+    for(int p = last; p >= 0; p -= panel_columns)
+    {
+      const int e = (std::min)(p + panel_columns, nc), after = nc - e;
+      if(after > 0)
+        for_each_chunk(p, e, column_grain(after), 2, [&](int j0, int j1) {   // the rows [e, nc) only
+          const int len = after;
+          int j = j0;
+          for(; j + 1 < j1; j += 2)
+          {
+            double t[6];
+            const double* c = block + std::size_t(j) * std::size_t(nr) + e;
+            const double* ahead = j + 3 < j1 ? c + 2 * std::size_t(nr) : c;
+            m_kernels.dot2(c, c + nr, len, ahead, ahead + nr, z0 + e, z1 + e, z2 + e, t);
+            z0[j] -= t[0];
+            z1[j] -= t[1];
+            z2[j] -= t[2];
+            z0[j + 1] -= t[3];
+            z1[j + 1] -= t[4];
+            z2[j + 1] -= t[5];
+          }
+          for(; j < j1; ++j)
+          {
+            double t[3];
+            m_kernels.dot(block + std::size_t(j) * std::size_t(nr) + e, len, z0 + e, z1 + e, z2 + e, t);
+            z0[j] -= t[0];
+            z1[j] -= t[1];
+            z2[j] -= t[2];
+          }
+        });
+      for(int j = e - 1; j >= p; --j)
+      {
+        const double* c = block + std::size_t(j) * std::size_t(nr);
+        double t[3];
+        m_kernels.dot(c + j + 1, e - j - 1, z0 + j + 1, z1 + j + 1, z2 + j + 1, t);
+        const double inverse = 1. / c[j];
+        z0[j] = (z0[j] - t[0]) * inverse;
+        z1[j] = (z1[j] - t[1]) * inverse;
+        z2[j] = (z2[j] - t[2]) * inverse;
+      }
+    }
+    for(int i = 0; i < nc; ++i)
+    {
+      ys[3 * i] = z0[i];
+      ys[3 * i + 1] = z1[i];
+      ys[3 * i + 2] = z2[i];
+    }
+  }
+
+  // a supernode of the top with at least split_values values is split (parallel schedules); its
+  // pieces hold at least split_rows rows of a panel (or as many values)
+  static constexpr int panel_columns = 64;
+  static constexpr double split_values = 65536.;
+  static constexpr int split_rows = 256;
+
   std::vector<Level> m_levels;
   std::vector<int> m_top;         // the supernodes above the levels' subtrees, increasing
+  std::vector<char> m_top_split;  // per supernode of m_top: substituted by forward_split_supernode() / backward_...
+  int m_chunks = 1;               // the pieces of a split supernode's panel: up to this many
+  std::size_t m_split_supernodes = 0;
   int m_n = -1, m_nsuper = -1;
   double m_sequential_share = 1.;
   mutable std::vector<Workspace> m_workspaces;
