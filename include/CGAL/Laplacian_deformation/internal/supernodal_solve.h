@@ -758,8 +758,8 @@ private:
   template <class F>
   void for_each_chunk(int begin, int end, int grain, int align, const F& f) const
   {
-    const int count = (std::min)(m_chunks, (std::max)(1, (end - begin) / grain));
 #ifdef CGAL_LINKED_WITH_TBB
+    const int count = (std::min)(m_chunks, (std::max)(1, (end - begin) / grain));
     if(count > 1)
     {
       const int units = (end - begin + align - 1) / align;
@@ -771,8 +771,10 @@ private:
       }, tbb::simple_partitioner());
       return;
     }
-#endif
+#else
+    (void)grain;
     (void)align;
+#endif
     f(begin, end);
   }
 
