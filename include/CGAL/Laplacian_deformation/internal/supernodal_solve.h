@@ -607,150 +607,208 @@ private:
       });
   }
 
+  // a supernode's block (nr rows, nc columns, column-major), y's rows of its columns (`ys`,
+  // interleaved) and the workspace's three arrays z of nr rows
+  struct Sweep
+  {
+    const double* block;
+    int nc, nr;
+    const int* rows;
+    double* ys;
+    double *z0, *z1, *z2;
+    const double* column(int j) const { return block + std::size_t(j) * std::size_t(nr); }
+  };
+  static Sweep sweep(const Supernodal_factor_view& l, int s, double* y, double* w)
+  {
+    const int nr = l.pi[s + 1] - l.pi[s];
+    return Sweep{l.values + l.px[s], l.super[s + 1] - l.super[s], nr, l.rows + l.pi[s],
+                 y + 3 * std::size_t(l.super[s]), w, w + nr, w + 2 * std::size_t(nr)};
+  }
+  // forward: z = the block's rows of y, zeros below
+  static void load_columns(const Sweep& x)
+  {
+    for(int i = 0; i < x.nc; ++i)
+    {
+      x.z0[i] = x.ys[3 * i];
+      x.z1[i] = x.ys[3 * i + 1];
+      x.z2[i] = x.ys[3 * i + 2];
+    }
+    std::fill(x.z0 + x.nc, x.z0 + x.nr, 0.);
+    std::fill(x.z1 + x.nc, x.z1 + x.nr, 0.);
+    std::fill(x.z2 + x.nc, x.z2 + x.nr, 0.);
+  }
+  static void store_columns(const Sweep& x)
+  {
+    for(int i = 0; i < x.nc; ++i)
+    {
+      x.ys[3 * i] = x.z0[i];
+      x.ys[3 * i + 1] = x.z1[i];
+      x.ys[3 * i + 2] = x.z2[i];
+    }
+  }
+  // forward: rows j and j + 1 solved (a[0..5], also into z), their columns' entries below them not
+  // applied yet
+  static void solve_pair(const Sweep& x, int j, double* a)
+  {
+    const double* c = x.column(j);
+    const double* d = c + x.nr;
+    const double ic = 1. / c[j];
+    a[0] = x.z0[j] * ic;
+    a[1] = x.z1[j] * ic;
+    a[2] = x.z2[j] * ic;
+    const double id = 1. / d[j + 1];
+    a[3] = (x.z0[j + 1] - c[j + 1] * a[0]) * id;
+    a[4] = (x.z1[j + 1] - c[j + 1] * a[1]) * id;
+    a[5] = (x.z2[j + 1] - c[j + 1] * a[2]) * id;
+    x.z0[j] = a[0];
+    x.z1[j] = a[1];
+    x.z2[j] = a[2];
+    x.z0[j + 1] = a[3];
+    x.z1[j + 1] = a[4];
+    x.z2[j + 1] = a[5];
+  }
+  // forward: row j alone solved (a[0..2], also into z)
+  static void solve_single(const Sweep& x, int j, double* a)
+  {
+    const double inverse = 1. / x.column(j)[j];
+    a[0] = x.z0[j] * inverse;
+    a[1] = x.z1[j] * inverse;
+    a[2] = x.z2[j] * inverse;
+    x.z0[j] = a[0];
+    x.z1[j] = a[1];
+    x.z2[j] = a[2];
+  }
+  // forward: the rows below the block hold minus the update they send: added to y for the rows <
+  // `column_end` (the running subtree), subtracted from `later` (the bin's buffer of the later
+  // levels' columns, index `later_index`) for the others; `later` null: everything to y
+  static void scatter_below(const Sweep& x, double* y, int column_end, const int* later_index, double* later)
+  {
+    for(int i = x.nc; i < x.nr; ++i)
+    {
+      const int r = x.rows[i];
+      if(later == nullptr || r < column_end)
+      {
+        double* t = y + 3 * std::size_t(r);
+        t[0] += x.z0[i];
+        t[1] += x.z1[i];
+        t[2] += x.z2[i];
+      }
+      else
+      {
+        double* t = later + 3 * std::size_t(later_index[std::size_t(r)]);
+        t[0] -= x.z0[i];
+        t[1] -= x.z1[i];
+        t[2] -= x.z2[i];
+      }
+    }
+  }
+  // backward: z[nc..nr) = y's rows below the block (solved)
+  static void gather_below(const Sweep& x, const double* y)
+  {
+    for(int i = x.nc; i < x.nr; ++i)
+    {
+      const double* yr = y + 3 * std::size_t(x.rows[i]);
+      x.z0[i] = yr[0];
+      x.z1[i] = yr[1];
+      x.z2[i] = yr[2];
+    }
+  }
+  // backward: for the columns [j0, j1) (j0 even; pairs of columns, then the last one of an odd
+  // count), z[j] = (`from_y` ? y's row j : z[j]) minus the dot products of column j's rows
+  // [from, to) with z[from, to). A pair prefetches the next pair's rows, the last pair those at
+  // `last_ahead` (two columns `last_stride` apart; null: none)
+  void subtract_dots(const Sweep& x, int j0, int j1, int from, int to, bool from_y, const double* last_ahead,
+                     int last_stride) const
+  {
+    const int len = to - from;
+    int j = j0;
+    for(; len > 0 && j + 1 < j1; j += 2)
+    {
+      double t[6];
+      const double* c = x.column(j) + from;
+      const bool more = j + 3 < j1;
+      const double* ahead = more ? c + 2 * std::size_t(x.nr) : last_ahead ? last_ahead : c;
+      m_kernels.dot2(c, c + x.nr, len, ahead, ahead + (more || !last_ahead ? x.nr : last_stride), x.z0 + from,
+                     x.z1 + from, x.z2 + from, t);
+      for(int q = 0; q < 2; ++q)
+      {
+        const double* base = from_y ? x.ys + 3 * (j + q) : nullptr;
+        x.z0[j + q] = (base ? base[0] : x.z0[j + q]) - t[3 * q];
+        x.z1[j + q] = (base ? base[1] : x.z1[j + q]) - t[3 * q + 1];
+        x.z2[j + q] = (base ? base[2] : x.z2[j + q]) - t[3 * q + 2];
+      }
+    }
+    for(; j < j1; ++j)
+    {
+      double t[3] = {0, 0, 0};
+      if(len > 0)
+        m_kernels.dot(x.column(j) + from, len, x.z0 + from, x.z1 + from, x.z2 + from, t);
+      const double* base = from_y ? x.ys + 3 * j : nullptr;
+      x.z0[j] = (base ? base[0] : x.z0[j]) - t[0];
+      x.z1[j] = (base ? base[1] : x.z1[j]) - t[1];
+      x.z2[j] = (base ? base[2] : x.z2[j]) - t[2];
+    }
+  }
+  // backward: the block's columns [p, e) against its rows [p, e) (transposed), from column e - 1:
+  // z[j] = (z[j] - L(j+1..e, j) z[j+1..e)) / L(j,j)
+  void solve_triangle_transposed(const Sweep& x, int p, int e) const
+  {
+    for(int j = e - 1; j >= p; --j)
+    {
+      const double* c = x.column(j);
+      double t[3];
+      m_kernels.dot(c + j + 1, e - j - 1, x.z0 + j + 1, x.z1 + j + 1, x.z2 + j + 1, t);
+      const double inverse = 1. / c[j];
+      x.z0[j] = (x.z0[j] - t[0]) * inverse;
+      x.z1[j] = (x.z1[j] - t[1]) * inverse;
+      x.z2[j] = (x.z2[j] - t[2]) * inverse;
+    }
+  }
+
   // the supernode's rows as three arrays z (of nr) in `w`, swept column by column: z[j] /= L(j,j),
-  // then z[j+1..nr) -= L(j+1..nr, j) z[j]. The rows below the block hold minus the update they send
-  // (added to y for the rows < `column_end`, the running subtree; subtracted from `later`, the bin's
-  // buffer of the later levels' columns (index `later_index`), for the others; `later` null:
-  // everything to y)
+  // then z[j+1..nr) -= L(j+1..nr, j) z[j]; the rows below the block then go to y or `later` (see
+  // scatter_below()).
   // (`next`: the supernode substituted after this one by the same thread, or -1: the pairs of
   // columns prefetch the next pair's columns, the last pair the next supernode's first two)
   void forward_supernode(const Supernodal_factor_view& l, int s, int next, double* y, double* w, int column_end,
                          const int* later_index, double* later) const
   {
-    const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s];
-    const double* block = l.values + l.px[s];
-    double* ys = y + 3 * std::size_t(k0);
-    double* z0 = w;
-    double* z1 = w + nr;
-    double* z2 = w + 2 * std::size_t(nr);
-    for(int i = 0; i < nc; ++i)
-    {
-      z0[i] = ys[3 * i];
-      z1[i] = ys[3 * i + 1];
-      z2[i] = ys[3 * i + 2];
-    }
-    std::fill(z0 + nc, z0 + nr, 0.);
-    std::fill(z1 + nc, z1 + nr, 0.);
-    std::fill(z2 + nc, z2 + nr, 0.);
+    const Sweep x = sweep(l, s, y, w);
+    const int nc = x.nc, nr = x.nr;
+    load_columns(x);
     int j = 0;
     for(; j + 1 < nc; j += 2)   // two columns c, d at a time: solve rows j, j + 1, then update the rows below
     {
-      const double* c = block + std::size_t(j) * std::size_t(nr);
+      const double* c = x.column(j);
       const double* d = c + nr;
-      const double ic = 1. / c[j];
       double a[6];
-      a[0] = z0[j] * ic;
-      a[1] = z1[j] * ic;
-      a[2] = z2[j] * ic;
-      const double id = 1. / d[j + 1];
-      a[3] = (z0[j + 1] - c[j + 1] * a[0]) * id;
-      a[4] = (z1[j + 1] - c[j + 1] * a[1]) * id;
-      a[5] = (z2[j + 1] - c[j + 1] * a[2]) * id;
-      z0[j] = a[0];
-      z1[j] = a[1];
-      z2[j] = a[2];
-      z0[j + 1] = a[3];
-      z1[j + 1] = a[4];
-      z2[j + 1] = a[5];
+      solve_pair(x, j, a);
       const double* ahead = j + 3 < nc ? d + nr + j + 2 : next >= 0 ? l.values + l.px[next] : c;
       const int ahead_stride = j + 3 < nc ? nr : next >= 0 ? l.pi[next + 1] - l.pi[next] : 0;
-      m_kernels.update2(c + j + 2, d + j + 2, nr - j - 2, ahead, ahead + ahead_stride, a, z0 + j + 2, z1 + j + 2,
-                        z2 + j + 2);
+      m_kernels.update2(c + j + 2, d + j + 2, nr - j - 2, ahead, ahead + ahead_stride, a, x.z0 + j + 2,
+                        x.z1 + j + 2, x.z2 + j + 2);
     }
     if(j < nc)   // the last column of an odd count
     {
-      const double* c = block + std::size_t(j) * std::size_t(nr);
-      const double inverse = 1. / c[j];
-      const double a[3] = {z0[j] * inverse, z1[j] * inverse, z2[j] * inverse};
-      z0[j] = a[0];
-      z1[j] = a[1];
-      z2[j] = a[2];
-      m_kernels.update(c + j + 1, nr - j - 1, a, z0 + j + 1, z1 + j + 1, z2 + j + 1);
+      double a[3];
+      solve_single(x, j, a);
+      m_kernels.update(x.column(j) + j + 1, nr - j - 1, a, x.z0 + j + 1, x.z1 + j + 1, x.z2 + j + 1);
     }
-    for(int i = 0; i < nc; ++i)
-    {
-      ys[3 * i] = z0[i];
-      ys[3 * i + 1] = z1[i];
-      ys[3 * i + 2] = z2[i];
-    }
-    const int* r = l.rows + l.pi[s];
-    for(int i = nc; i < nr; ++i)
-      if(later == nullptr || r[i] < column_end)
-      {
-        double* t = y + 3 * std::size_t(r[i]);
-        t[0] += z0[i];
-        t[1] += z1[i];
-        t[2] += z2[i];
-      }
-      else
-      {
-        double* t = later + 3 * std::size_t(later_index[std::size_t(r[i])]);
-        t[0] -= z0[i];
-        t[1] -= z1[i];
-        t[2] -= z2[i];
-      }
+    store_columns(x);
+    scatter_below(x, y, column_end, later_index, later);
   }
 
   // z[nc..nr) = the solved rows below the block; first every column's dot product with them (the
   // columns in ascending order: one stream), then the diagonal block, transposed, from its last column
   void backward_supernode(const Supernodal_factor_view& l, int s, int next, double* y, double* w) const
   {
-    const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s], m = nr - nc;
-    const double* block = l.values + l.px[s];
-    double* ys = y + 3 * std::size_t(k0);
-    double* z0 = w;
-    double* z1 = w + nr;
-    double* z2 = w + 2 * std::size_t(nr);
-    const int* r = l.rows + l.pi[s];
-    for(int i = nc; i < nr; ++i)
-    {
-      const double* yr = y + 3 * std::size_t(r[i]);
-      z0[i] = yr[0];
-      z1[i] = yr[1];
-      z2[i] = yr[2];
-    }
-    int j = 0;
-    for(; m > 0 && j + 1 < nc; j += 2)   // two columns at a time
-    {
-      double t[6];
-      const double* c = block + std::size_t(j) * std::size_t(nr) + nc;
-      const int next_nr = next >= 0 ? l.pi[next + 1] - l.pi[next] : 0,
-                next_nc = next >= 0 ? l.super[next + 1] - l.super[next] : 0;
-      const double* ahead = j + 3 < nc ? c + 2 * nr : next >= 0 ? l.values + l.px[next] + next_nc : c;
-      const int ahead_stride = j + 3 < nc ? nr : next_nr;
-      m_kernels.dot2(c, c + nr, m, ahead, ahead + ahead_stride, z0 + nc, z1 + nc, z2 + nc, t);
-      z0[j] = ys[3 * j] - t[0];
-      z1[j] = ys[3 * j + 1] - t[1];
-      z2[j] = ys[3 * j + 2] - t[2];
-      z0[j + 1] = ys[3 * j + 3] - t[3];
-      z1[j + 1] = ys[3 * j + 4] - t[4];
-      z2[j + 1] = ys[3 * j + 5] - t[5];
-    }
-    for(; j < nc; ++j)
-    {
-      double t[3] = {0, 0, 0};
-      if(m > 0)
-        m_kernels.dot(block + std::size_t(j) * std::size_t(nr) + nc, m, z0 + nc, z1 + nc, z2 + nc, t);
-      z0[j] = ys[3 * j] - t[0];
-      z1[j] = ys[3 * j + 1] - t[1];
-      z2[j] = ys[3 * j + 2] - t[2];
-    }
-    for(int j = nc - 1; j >= 0; --j)
-    {
-      const double* c = block + std::size_t(j) * std::size_t(nr);
-      double t[3];
-      m_kernels.dot(c + j + 1, nc - j - 1, z0 + j + 1, z1 + j + 1, z2 + j + 1, t);
-      const double inverse = 1. / c[j];
-      z0[j] = (z0[j] - t[0]) * inverse;
-      z1[j] = (z1[j] - t[1]) * inverse;
-      z2[j] = (z2[j] - t[2]) * inverse;
-    }
-    for(int i = 0; i < nc; ++i)
-    {
-      ys[3 * i] = z0[i];
-      ys[3 * i + 1] = z1[i];
-      ys[3 * i + 2] = z2[i];
-    }
+    const Sweep x = sweep(l, s, y, w);
+    gather_below(x, y);
+    // the last pair prefetches the next supernode's first two columns below its block
+    const double* next_ahead = next >= 0 ? l.values + l.px[next] + (l.super[next + 1] - l.super[next]) : nullptr;
+    subtract_dots(x, 0, x.nc, x.nc, x.nr, true, next_ahead, next >= 0 ? l.pi[next + 1] - l.pi[next] : 0);
+    solve_triangle_transposed(x, 0, x.nc);
+    store_columns(x);
   }
 
   // f(begin, end) over [begin, end) cut into up to m_chunks pieces of at least `grain` (their
@@ -785,21 +843,9 @@ private:
   // same order through the same kernels as in forward_supernode(): the same result, bit for bit.
   void forward_split_supernode(const Supernodal_factor_view& l, int s, double* y, double* w) const
   {
-    const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s];
-    const double* block = l.values + l.px[s];
-    double* ys = y + 3 * std::size_t(k0);
-    double* z0 = w;
-    double* z1 = w + nr;
-    double* z2 = w + 2 * std::size_t(nr);
-    for(int i = 0; i < nc; ++i)
-    {
-      z0[i] = ys[3 * i];
-      z1[i] = ys[3 * i + 1];
-      z2[i] = ys[3 * i + 2];
-    }
-    std::fill(z0 + nc, z0 + nr, 0.);
-    std::fill(z1 + nc, z1 + nr, 0.);
-    std::fill(z2 + nc, z2 + nr, 0.);
+    const Sweep x = sweep(l, s, y, w);
+    const int nc = x.nc, nr = x.nr;
+    load_columns(x);
     double a[3 * panel_columns];   // the panel's solved rows: per pair a[0..5] as in forward_supernode()
     for(int p = 0; p < nc; p += panel_columns)
     {
@@ -807,66 +853,33 @@ private:
       int j = p;
       for(; j + 1 < e; j += 2)
       {
-        const double* c = block + std::size_t(j) * std::size_t(nr);
-        const double* d = c + nr;
+        const double* c = x.column(j);
         double* aj = a + 3 * (j - p);
-        const double ic = 1. / c[j];
-        aj[0] = z0[j] * ic;
-        aj[1] = z1[j] * ic;
-        aj[2] = z2[j] * ic;
-        const double id = 1. / d[j + 1];
-        aj[3] = (z0[j + 1] - c[j + 1] * aj[0]) * id;
-        aj[4] = (z1[j + 1] - c[j + 1] * aj[1]) * id;
-        aj[5] = (z2[j + 1] - c[j + 1] * aj[2]) * id;
-        z0[j] = aj[0];
-        z1[j] = aj[1];
-        z2[j] = aj[2];
-        z0[j + 1] = aj[3];
-        z1[j + 1] = aj[4];
-        z2[j + 1] = aj[5];
-        m_kernels.update2(c + j + 2, d + j + 2, e - j - 2, c, d, aj, z0 + j + 2, z1 + j + 2, z2 + j + 2);
+        solve_pair(x, j, aj);
+        m_kernels.update2(c + j + 2, c + nr + j + 2, e - j - 2, c, c + nr, aj, x.z0 + j + 2, x.z1 + j + 2,
+                          x.z2 + j + 2);
       }
       if(j < e)   // the last column of an odd count
       {
-        const double* c = block + std::size_t(j) * std::size_t(nr);
         double* aj = a + 3 * (j - p);
-        const double inverse = 1. / c[j];
-        aj[0] = z0[j] * inverse;
-        aj[1] = z1[j] * inverse;
-        aj[2] = z2[j] * inverse;
-        z0[j] = aj[0];
-        z1[j] = aj[1];
-        z2[j] = aj[2];
-        m_kernels.update(c + j + 1, e - j - 1, aj, z0 + j + 1, z1 + j + 1, z2 + j + 1);
+        solve_single(x, j, aj);
+        m_kernels.update(x.column(j) + j + 1, e - j - 1, aj, x.z0 + j + 1, x.z1 + j + 1, x.z2 + j + 1);
       }
       for_each_chunk(e, nr, split_rows, 8, [&](int r0, int r1) {
         int q = p;
         for(; q + 1 < e; q += 2)
         {
-          const double* c = block + std::size_t(q) * std::size_t(nr);
+          const double* c = x.column(q);
           const double* ahead = q + 3 < nc ? c + 2 * std::size_t(nr) : c;
-          m_kernels.update2(c + r0, c + nr + r0, r1 - r0, ahead + r0, ahead + nr + r0, a + 3 * (q - p), z0 + r0,
-                            z1 + r0, z2 + r0);
+          m_kernels.update2(c + r0, c + nr + r0, r1 - r0, ahead + r0, ahead + nr + r0, a + 3 * (q - p), x.z0 + r0,
+                            x.z1 + r0, x.z2 + r0);
         }
         if(q < e)
-          m_kernels.update(block + std::size_t(q) * std::size_t(nr) + r0, r1 - r0, a + 3 * (q - p), z0 + r0,
-                           z1 + r0, z2 + r0);
+          m_kernels.update(x.column(q) + r0, r1 - r0, a + 3 * (q - p), x.z0 + r0, x.z1 + r0, x.z2 + r0);
       });
     }
-    for(int i = 0; i < nc; ++i)
-    {
-      ys[3 * i] = z0[i];
-      ys[3 * i + 1] = z1[i];
-      ys[3 * i + 2] = z2[i];
-    }
-    const int* r = l.rows + l.pi[s];
-    for(int i = nc; i < nr; ++i)
-    {
-      double* t = y + 3 * std::size_t(r[i]);
-      t[0] += z0[i];
-      t[1] += z1[i];
-      t[2] += z2[i];
-    }
+    store_columns(x);
+    scatter_below(x, y, l.n, nullptr, nullptr);
   }
 
   // backward_supernode() for a large supernode of the top (parallel schedules only): the dot
@@ -878,100 +891,25 @@ private:
   // from backward_supernode()'s by round-off, and does not depend on the number of threads.
   void backward_split_supernode(const Supernodal_factor_view& l, int s, double* y, double* w) const
   {
-    const int k0 = l.super[s], nc = l.super[s + 1] - k0, nr = l.pi[s + 1] - l.pi[s], m = nr - nc;
-    const double* block = l.values + l.px[s];
-    double* ys = y + 3 * std::size_t(k0);
-    double* z0 = w;
-    double* z1 = w + nr;
-    double* z2 = w + 2 * std::size_t(nr);
-    const int* r = l.rows + l.pi[s];
-    for(int i = nc; i < nr; ++i)
-    {
-      const double* yr = y + 3 * std::size_t(r[i]);
-      z0[i] = yr[0];
-      z1[i] = yr[1];
-      z2[i] = yr[2];
-    }
-    // z[j] = y[j] minus the dot products of the columns [j0, j1) (j0 even) with the rows below the
-    // block, as in backward_supernode()
-    const auto below = [&](int j0, int j1) {
-      int j = j0;
-      for(; m > 0 && j + 1 < j1; j += 2)
-      {
-        double t[6];
-        const double* c = block + std::size_t(j) * std::size_t(nr) + nc;
-        const double* ahead = j + 3 < j1 ? c + 2 * std::size_t(nr) : c;
-        m_kernels.dot2(c, c + nr, m, ahead, ahead + nr, z0 + nc, z1 + nc, z2 + nc, t);
-        z0[j] = ys[3 * j] - t[0];
-        z1[j] = ys[3 * j + 1] - t[1];
-        z2[j] = ys[3 * j + 2] - t[2];
-        z0[j + 1] = ys[3 * j + 3] - t[3];
-        z1[j + 1] = ys[3 * j + 4] - t[4];
-        z2[j + 1] = ys[3 * j + 5] - t[5];
-      }
-      for(; j < j1; ++j)
-      {
-        double t[3] = {0, 0, 0};
-        if(m > 0)
-          m_kernels.dot(block + std::size_t(j) * std::size_t(nr) + nc, m, z0 + nc, z1 + nc, z2 + nc, t);
-        z0[j] = ys[3 * j] - t[0];
-        z1[j] = ys[3 * j + 1] - t[1];
-        z2[j] = ys[3 * j + 2] - t[2];
-      }
-    };
+    const Sweep x = sweep(l, s, y, w);
+    const int nc = x.nc, m = x.nr - x.nc;
+    gather_below(x, y);
     // pieces of columns that hold at least as many values as a piece of forward_split_supernode()
     const auto column_grain = [](int len) {
       const int g = (split_rows * panel_columns + len - 1) / (std::max)(1, len);
       return (std::max)(2, g + (g & 1));
     };
-    for_each_chunk(0, nc, m > 0 ? column_grain(m) : nc, 2, below);
-    const int last = (nc - 1) / panel_columns * panel_columns;
-    for(int p = last; p >= 0; p -= panel_columns)
+    for_each_chunk(0, nc, m > 0 ? column_grain(m) : nc, 2,
+                   [&](int j0, int j1) { subtract_dots(x, j0, j1, nc, x.nr, true, nullptr, 0); });
+    for(int p = (nc - 1) / panel_columns * panel_columns; p >= 0; p -= panel_columns)
     {
-      const int e = (std::min)(p + panel_columns, nc), after = nc - e;
-      if(after > 0)
-        for_each_chunk(p, e, column_grain(after), 2, [&](int j0, int j1) {   // the rows [e, nc) only
-          const int len = after;
-          int j = j0;
-          for(; j + 1 < j1; j += 2)
-          {
-            double t[6];
-            const double* c = block + std::size_t(j) * std::size_t(nr) + e;
-            const double* ahead = j + 3 < j1 ? c + 2 * std::size_t(nr) : c;
-            m_kernels.dot2(c, c + nr, len, ahead, ahead + nr, z0 + e, z1 + e, z2 + e, t);
-            z0[j] -= t[0];
-            z1[j] -= t[1];
-            z2[j] -= t[2];
-            z0[j + 1] -= t[3];
-            z1[j + 1] -= t[4];
-            z2[j + 1] -= t[5];
-          }
-          for(; j < j1; ++j)
-          {
-            double t[3];
-            m_kernels.dot(block + std::size_t(j) * std::size_t(nr) + e, len, z0 + e, z1 + e, z2 + e, t);
-            z0[j] -= t[0];
-            z1[j] -= t[1];
-            z2[j] -= t[2];
-          }
-        });
-      for(int j = e - 1; j >= p; --j)
-      {
-        const double* c = block + std::size_t(j) * std::size_t(nr);
-        double t[3];
-        m_kernels.dot(c + j + 1, e - j - 1, z0 + j + 1, z1 + j + 1, z2 + j + 1, t);
-        const double inverse = 1. / c[j];
-        z0[j] = (z0[j] - t[0]) * inverse;
-        z1[j] = (z1[j] - t[1]) * inverse;
-        z2[j] = (z2[j] - t[2]) * inverse;
-      }
+      const int e = (std::min)(p + panel_columns, nc);
+      if(e < nc)   // the rows after the panel: [e, nc)
+        for_each_chunk(p, e, column_grain(nc - e), 2,
+                       [&](int j0, int j1) { subtract_dots(x, j0, j1, e, nc, false, nullptr, 0); });
+      solve_triangle_transposed(x, p, e);
     }
-    for(int i = 0; i < nc; ++i)
-    {
-      ys[3 * i] = z0[i];
-      ys[3 * i + 1] = z1[i];
-      ys[3 * i + 2] = z2[i];
-    }
+    store_columns(x);
   }
 
   // a supernode of the top with at least split_values values is split (parallel schedules); its
