@@ -714,10 +714,11 @@ private:
     }
   }
   // backward: for the columns [j0, j1) (j0 even; pairs of columns, then the last one of an odd
-  // count), z[j] = (`from_y` ? y's row j : z[j]) minus the dot products of column j's rows
+  // count), z[j] = (FromY ? y's row j : z[j]) minus the dot products of column j's rows
   // [from, to) with z[from, to). A pair prefetches the next pair's rows, the last pair those at
   // `last_ahead` (two columns `last_stride` apart; null: none)
-  void subtract_dots(const Sweep& x, int j0, int j1, int from, int to, bool from_y, const double* last_ahead,
+  template <bool FromY>
+  void subtract_dots(const Sweep& x, int j0, int j1, int from, int to, const double* last_ahead,
                      int last_stride) const
   {
     const int len = to - from;
@@ -732,10 +733,10 @@ private:
                      x.z1 + from, x.z2 + from, t);
       for(int q = 0; q < 2; ++q)
       {
-        const double* base = from_y ? x.ys + 3 * (j + q) : nullptr;
-        x.z0[j + q] = (base ? base[0] : x.z0[j + q]) - t[3 * q];
-        x.z1[j + q] = (base ? base[1] : x.z1[j + q]) - t[3 * q + 1];
-        x.z2[j + q] = (base ? base[2] : x.z2[j + q]) - t[3 * q + 2];
+        const int i = j + q;
+        x.z0[i] = (FromY ? x.ys[3 * i] : x.z0[i]) - t[3 * q];
+        x.z1[i] = (FromY ? x.ys[3 * i + 1] : x.z1[i]) - t[3 * q + 1];
+        x.z2[i] = (FromY ? x.ys[3 * i + 2] : x.z2[i]) - t[3 * q + 2];
       }
     }
     for(; j < j1; ++j)
@@ -743,10 +744,9 @@ private:
       double t[3] = {0, 0, 0};
       if(len > 0)
         m_kernels.dot(x.column(j) + from, len, x.z0 + from, x.z1 + from, x.z2 + from, t);
-      const double* base = from_y ? x.ys + 3 * j : nullptr;
-      x.z0[j] = (base ? base[0] : x.z0[j]) - t[0];
-      x.z1[j] = (base ? base[1] : x.z1[j]) - t[1];
-      x.z2[j] = (base ? base[2] : x.z2[j]) - t[2];
+      x.z0[j] = (FromY ? x.ys[3 * j] : x.z0[j]) - t[0];
+      x.z1[j] = (FromY ? x.ys[3 * j + 1] : x.z1[j]) - t[1];
+      x.z2[j] = (FromY ? x.ys[3 * j + 2] : x.z2[j]) - t[2];
     }
   }
   // backward: the block's columns [p, e) against its rows [p, e) (transposed), from column e - 1:
@@ -806,7 +806,7 @@ private:
     gather_below(x, y);
     // the last pair prefetches the next supernode's first two columns below its block
     const double* next_ahead = next >= 0 ? l.values + l.px[next] + (l.super[next + 1] - l.super[next]) : nullptr;
-    subtract_dots(x, 0, x.nc, x.nc, x.nr, true, next_ahead, next >= 0 ? l.pi[next + 1] - l.pi[next] : 0);
+    subtract_dots<true>(x, 0, x.nc, x.nc, x.nr, next_ahead, next >= 0 ? l.pi[next + 1] - l.pi[next] : 0);
     solve_triangle_transposed(x, 0, x.nc);
     store_columns(x);
   }
@@ -900,13 +900,13 @@ private:
       return (std::max)(2, g + (g & 1));
     };
     for_each_chunk(0, nc, m > 0 ? column_grain(m) : nc, 2,
-                   [&](int j0, int j1) { subtract_dots(x, j0, j1, nc, x.nr, true, nullptr, 0); });
+                   [&](int j0, int j1) { subtract_dots<true>(x, j0, j1, nc, x.nr, nullptr, 0); });
     for(int p = (nc - 1) / panel_columns * panel_columns; p >= 0; p -= panel_columns)
     {
       const int e = (std::min)(p + panel_columns, nc);
       if(e < nc)   // the rows after the panel: [e, nc)
         for_each_chunk(p, e, column_grain(nc - e), 2,
-                       [&](int j0, int j1) { subtract_dots(x, j0, j1, e, nc, false, nullptr, 0); });
+                       [&](int j0, int j1) { subtract_dots<false>(x, j0, j1, e, nc, nullptr, 0); });
       solve_triangle_transposed(x, p, e);
     }
     store_columns(x);
