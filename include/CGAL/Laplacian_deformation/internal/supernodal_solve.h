@@ -17,7 +17,9 @@
 // bins; the bins run on TBB's threads. The supernodes above them are cut again the same way, level
 // after level (a nested-dissection factor holds about the same share of its values on every level
 // of separators, so one level of subtrees would leave a large top to one thread), until what
-// remains (the top) is too small to pay for another barrier; the top runs alone. In the forward
+// remains (the top) is too small to pay for another barrier; the top's supernodes follow one after
+// the other, each large one split into pieces on TBB's threads panel by panel
+// (forward_split_supernode(), backward_split_supernode()). In the forward
 // substitution a bin writes the updates its subtrees send to later levels into a buffer of its
 // own, summed in bin order after its level (the result does not depend on the threads' timing); in
 // the backward substitution the top is done first, then the levels in reverse order, and each
